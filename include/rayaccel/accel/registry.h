@@ -1,0 +1,76 @@
+// The accelerator registry: structures by name, each with documented key=value options, created from a spec
+// "name" or "name:key=value,key=value". Unknown names and keys are errors that list the known ones.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+
+namespace rayaccel {
+
+enum class OptionType { choice, integer, real, boolean };
+
+struct OptionSpec {
+  std::string key;
+  OptionType type = OptionType::integer;
+  std::string default_value;
+  std::string description;
+  std::vector<std::string> choices;  ///< the allowed values of a choice option
+};
+
+/// Option values after validation against the structure's OptionSpecs; every declared key has a value (its
+/// default when not given).
+class Options {
+ public:
+  Options() = default;
+  explicit Options(std::map<std::string, std::string> values) : values_(std::move(values)) {}
+  const std::string& get(const std::string& key) const;
+  long long get_int(const std::string& key) const;
+  double get_real(const std::string& key) const;
+  bool get_bool(const std::string& key) const;
+  const std::map<std::string, std::string>& values() const { return values_; }
+
+ private:
+  std::map<std::string, std::string> values_;
+};
+
+struct AcceleratorInfo {
+  std::string name;
+  std::string description;  ///< one line
+  std::vector<OptionSpec> options;
+  /// Specs `rayaccel list --names` prints for this structure (every meaningful combination, e.g.
+  /// "bvh:bv=obb,builder=ploc"); empty means just the name.
+  std::vector<std::string> variants;
+  std::function<std::unique_ptr<Accelerator>(const Options&)> create;
+};
+
+/// Every registered structure, brute force first.
+const std::vector<AcceleratorInfo>& accelerator_registry();
+/// Looks a structure up by name; throws Error listing the known names when there is none.
+const AcceleratorInfo& find_accelerator(std::string_view name);
+/// Every spec `rayaccel list --names` prints, in registry order.
+std::vector<std::string> accelerator_variant_names();
+
+/// A parsed spec: name plus given key=value pairs.
+struct AcceleratorSpec {
+  std::string name;
+  std::map<std::string, std::string> options;
+};
+AcceleratorSpec parse_accelerator_spec(std::string_view spec);
+/// Checks keys and values against the structure's options and fills in defaults; throws Error naming the bad key
+/// or value and listing the known keys or allowed values.
+Options resolve_options(const AcceleratorInfo& info, const std::map<std::string, std::string>& given);
+
+/// Creates an unbuilt accelerator from a spec such as "kdtree:builder=sah,leaf_size=4".
+std::unique_ptr<Accelerator> make_accelerator(std::string_view spec);
+
+/// Registration hooks, one per structure module, called in this order by accelerator_registry() (see
+/// src/accel/builtin_registry.cpp).
+void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry);
+
+}  // namespace rayaccel

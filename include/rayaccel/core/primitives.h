@@ -1,0 +1,45 @@
+// The primitive kinds a Scene can hold: indexed triangle meshes, analytic spheres, and user primitives given as
+// callbacks (bounds + intersect), so every structure works on any of them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "rayaccel/core/aabb.h"
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+#include "rayaccel/core/vec3.h"
+
+namespace rayaccel {
+
+/// Indexed triangle list; primitive id = index into `triangles`.
+struct TriangleMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+struct Sphere {
+  Vec3 center;
+  float radius = 1.0f;
+};
+
+/// Primitives defined by the caller. `bounds` must enclose every point `intersect` can report. `intersect` has the
+/// contract of intersect_triangle(): on a hit with ray.t_min < t < hit.t it sets hit.t, hit.prim_id, hit.u, hit.v
+/// and returns true. `normal` (optional) gives the surface normal at a hit for shading.
+struct UserPrimitives {
+  std::uint32_t count = 0;
+  std::function<AABB(std::uint32_t prim_id)> bounds;
+  std::function<bool(std::uint32_t prim_id, const PreparedRay& ray, Hit& hit)> intersect;
+  std::function<Vec3(std::uint32_t prim_id, const Vec3& point)> normal;
+};
+
+/// What a builder sees of a primitive: its bounds (the centroid is bounds.center()) and its id.
+struct PrimRef {
+  AABB bounds;
+  std::uint32_t prim_id = 0;
+  Vec3 centroid() const { return bounds.center(); }
+};
+
+}  // namespace rayaccel

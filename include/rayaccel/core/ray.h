@@ -1,0 +1,66 @@
+// Ray {origin, direction, t_min, t_max} and PreparedRay, the per-ray constants traversal computes once:
+// reciprocal direction and signs for the slab test (Ize 2013), shear constants for the watertight triangle test
+// (Woop, Benthin, Wald 2013).
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "rayaccel/core/vec3.h"
+
+namespace rayaccel {
+
+/// A ray; the direction need not be normalized and t is measured in units of its length.
+struct Ray {
+  Vec3 origin;
+  float t_min = 0.0f;
+  Vec3 direction{0.0f, 0.0f, 1.0f};
+  float t_max = std::numeric_limits<float>::infinity();
+  // Field order matches the 32-byte record of the .rays file: ox oy oz tmin dx dy dz tmax.
+};
+static_assert(sizeof(Ray) == 32, "Ray is the 32-byte record of the .rays file");
+
+/// Per-ray constants shared by every kernel. A ray with a NaN or infinite origin or direction component, a zero
+/// direction, a NaN t bound, or t_max < t_min is "void": its interval is empty (t_min = +inf, t_max = -inf) and
+/// every test rejects it, so bad rays never produce a hit.
+struct PreparedRay {
+  Vec3 origin;
+  Vec3 direction;
+  Vec3 inv_direction;  ///< 1/d per axis; +-inf for +-0 components (the sign of zero is kept)
+  int negative[3];     ///< 1 when the direction's sign bit is set (also for -0)
+  float t_min;
+  float t_max;  ///< inclusive
+  // Watertight triangle test: kz is the dominant axis, (kx, ky) the other two in winding-preserving order.
+  int kx, ky, kz;
+  float shear_x, shear_y, shear_z;
+
+  bool is_void() const { return !(t_min <= t_max); }
+
+  explicit PreparedRay(const Ray& ray) : origin(ray.origin), direction(ray.direction) {
+    const Vec3& d = direction;
+    const bool valid = is_finite(origin) && is_finite(d) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) &&
+                       !std::isnan(ray.t_min) && !std::isnan(ray.t_max) && ray.t_min <= ray.t_max;
+    if (valid) {
+      t_min = ray.t_min;
+      t_max = ray.t_max;
+    } else {
+      t_min = std::numeric_limits<float>::infinity();
+      t_max = -std::numeric_limits<float>::infinity();
+    }
+    for (int a = 0; a < 3; ++a) {
+      inv_direction[a] = 1.0f / d[a];
+      negative[a] = std::signbit(d[a]) ? 1 : 0;
+    }
+    const Vec3 ad = abs(d);
+    kz = max_axis(ad);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (d[kz] < 0.0f) { const int tmp = kx; kx = ky; ky = tmp; }
+    const float dz = d[kz] != 0.0f ? d[kz] : 1.0f;  // only a void ray has d[kz] == 0
+    shear_x = d[kx] / dz;
+    shear_y = d[ky] / dz;
+    shear_z = 1.0f / dz;
+  }
+};
+
+}  // namespace rayaccel

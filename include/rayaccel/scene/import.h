@@ -1,0 +1,24 @@
+// Scene loading: mesh files through assimp (PLY, OBJ, glTF, STL, ...) and built-in procedural scenes by name.
+// Primitive id = triangle index in file order; polygons are fan-triangulated in order (the .rays/.hits files of
+// other tools rely on this).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "rayaccel/core/primitives.h"
+#include "rayaccel/core/scene.h"
+
+namespace rayaccel {
+
+/// Reads a mesh file. Throws Error naming the file and the fault: unreadable, not a mesh, no triangles, index out
+/// of range. NaN/Inf vertices are kept (the Scene marks their triangles invalid, see scene.h); points and lines
+/// are skipped.
+TriangleMesh import_mesh(const std::filesystem::path& path);
+
+/// A scene from a spec: "builtin:NAME[:key=value,...]" (see builtin_scenes.h) or a mesh file path. The scene is
+/// named after the file stem or the builtin name.
+Scene load_scene(std::string_view spec);
+
+}  // namespace rayaccel

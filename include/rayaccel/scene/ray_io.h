@@ -1,0 +1,25 @@
+// The exchange formats other tools read and write (raw little-endian, no header):
+//   .rays  32 bytes per ray: float32 ox oy oz tmin dx dy dz tmax
+//   .hits  16 bytes per ray: float32 t, uint32 prim_id, float32 u, float32 v (miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
+//   .occ   1 byte per ray: 1 occluded, 0 not
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <vector>
+
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+
+namespace rayaccel {
+
+/// Throws Error naming the file when it cannot be read or its size is not a multiple of 32 bytes.
+std::vector<Ray> read_rays(const std::filesystem::path& path);
+void write_rays(const std::filesystem::path& path, std::span<const Ray> rays);
+std::vector<Hit> read_hits(const std::filesystem::path& path);
+void write_hits(const std::filesystem::path& path, std::span<const Hit> hits);
+std::vector<std::uint8_t> read_occlusion(const std::filesystem::path& path);
+void write_occlusion(const std::filesystem::path& path, std::span<const std::uint8_t> occluded);
+
+}  // namespace rayaccel

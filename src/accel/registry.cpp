@@ -1,0 +1,193 @@
+// Registry lookup, spec parsing and option validation.
+#include "rayaccel/accel/registry.h"
+
+#include <charconv>
+#include <cmath>
+#include <string>
+
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+
+namespace {
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  return out;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+bool parse_bool(const std::string& v, bool& out) {
+  if (v == "1" || v == "true" || v == "on" || v == "yes") { out = true; return true; }
+  if (v == "0" || v == "false" || v == "off" || v == "no") { out = false; return true; }
+  return false;
+}
+
+bool parse_integer(const std::string& v, long long& out) {
+  const char* end = v.data() + v.size();
+  auto [ptr, ec] = std::from_chars(v.data(), end, out);
+  return ec == std::errc() && ptr == end && !v.empty();
+}
+
+bool parse_real(const std::string& v, double& out) {
+  if (v.empty()) return false;
+  std::size_t used = 0;
+  try {
+    out = std::stod(v, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == v.size() && std::isfinite(out);
+}
+
+}  // namespace
+
+const std::string& Options::get(const std::string& key) const {
+  auto it = values_.find(key);
+  if (it == values_.end()) throw Error("option '" + key + "' is not defined for this structure");
+  return it->second;
+}
+
+long long Options::get_int(const std::string& key) const {
+  long long v = 0;
+  if (!parse_integer(get(key), v)) throw Error("option '" + key + "': '" + get(key) + "' is not an integer");
+  return v;
+}
+
+double Options::get_real(const std::string& key) const {
+  double v = 0;
+  if (!parse_real(get(key), v)) throw Error("option '" + key + "': '" + get(key) + "' is not a number");
+  return v;
+}
+
+bool Options::get_bool(const std::string& key) const {
+  bool v = false;
+  if (!parse_bool(get(key), v)) throw Error("option '" + key + "': '" + get(key) + "' is not a boolean");
+  return v;
+}
+
+const std::vector<AcceleratorInfo>& accelerator_registry() {
+  static const std::vector<AcceleratorInfo> registry = [] {
+    std::vector<AcceleratorInfo> r;
+    register_builtin_accelerators(r);
+    return r;
+  }();
+  return registry;
+}
+
+const AcceleratorInfo& find_accelerator(std::string_view name) {
+  std::vector<std::string> names;
+  for (const auto& info : accelerator_registry()) {
+    if (info.name == name) return info;
+    names.push_back(info.name);
+  }
+  throw Error("unknown accelerator '" + std::string(name) + "'; known: " + join(names));
+}
+
+std::vector<std::string> accelerator_variant_names() {
+  std::vector<std::string> out;
+  for (const auto& info : accelerator_registry()) {
+    if (info.variants.empty()) {
+      out.push_back(info.name);
+    } else {
+      out.insert(out.end(), info.variants.begin(), info.variants.end());
+    }
+  }
+  return out;
+}
+
+AcceleratorSpec parse_accelerator_spec(std::string_view spec) {
+  AcceleratorSpec out;
+  const auto colon = spec.find(':');
+  out.name = std::string(trim(spec.substr(0, colon)));
+  if (out.name.empty()) throw Error("accelerator spec '" + std::string(spec) + "' has no name");
+  if (colon == std::string_view::npos) return out;
+  std::string_view rest = spec.substr(colon + 1);
+  while (!rest.empty()) {
+    const auto comma = rest.find(',');
+    const std::string_view item = trim(rest.substr(0, comma));
+    rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+    if (item.empty()) continue;
+    const auto eq = item.find('=');
+    if (eq == std::string_view::npos) {
+      throw Error("accelerator spec '" + std::string(spec) + "': option '" + std::string(item) +
+                  "' is not of the form key=value");
+    }
+    const std::string key(trim(item.substr(0, eq)));
+    const std::string value(trim(item.substr(eq + 1)));
+    if (out.options.count(key)) {
+      throw Error("accelerator spec '" + std::string(spec) + "': option '" + key + "' is given twice");
+    }
+    out.options[key] = value;
+  }
+  return out;
+}
+
+Options resolve_options(const AcceleratorInfo& info, const std::map<std::string, std::string>& given) {
+  std::map<std::string, std::string> values;
+  std::vector<std::string> known;
+  for (const auto& opt : info.options) {
+    values[opt.key] = opt.default_value;
+    known.push_back(opt.key);
+  }
+  for (const auto& [key, value] : given) {
+    const OptionSpec* spec = nullptr;
+    for (const auto& opt : info.options) {
+      if (opt.key == key) spec = &opt;
+    }
+    if (!spec) {
+      throw Error("accelerator '" + info.name + "' has no option '" + key + "'; known options: " +
+                  (known.empty() ? std::string("(none)") : join(known)));
+    }
+    bool ok = true;
+    std::string expected;
+    switch (spec->type) {
+      case OptionType::choice: {
+        ok = false;
+        for (const auto& c : spec->choices) ok = ok || c == value;
+        expected = "one of " + join(spec->choices);
+        break;
+      }
+      case OptionType::integer: {
+        long long v;
+        ok = parse_integer(value, v);
+        expected = "an integer";
+        break;
+      }
+      case OptionType::real: {
+        double v;
+        ok = parse_real(value, v);
+        expected = "a finite number";
+        break;
+      }
+      case OptionType::boolean: {
+        bool v;
+        ok = parse_bool(value, v);
+        expected = "true or false";
+        break;
+      }
+    }
+    if (!ok) {
+      throw Error("accelerator '" + info.name + "', option '" + key + "': '" + value + "' is not " + expected);
+    }
+    values[key] = value;
+  }
+  return Options(std::move(values));
+}
+
+std::unique_ptr<Accelerator> make_accelerator(std::string_view spec_text) {
+  const AcceleratorSpec spec = parse_accelerator_spec(spec_text);
+  const AcceleratorInfo& info = find_accelerator(spec.name);
+  const Options options = resolve_options(info, spec.options);
+  auto accel = info.create(options);
+  accel->set_spec(std::string(trim(spec_text)));
+  return accel;
+}
+
+}  // namespace rayaccel

@@ -1,0 +1,199 @@
+// Scene construction: validates primitives, derives per-primitive bounds and counts invalid and degenerate ones.
+#include "rayaccel/core/scene.h"
+
+#include <cmath>
+#include <string>
+
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+
+const char* to_string(PrimitiveKind kind) {
+  switch (kind) {
+    case PrimitiveKind::triangles: return "triangles";
+    case PrimitiveKind::spheres: return "spheres";
+    case PrimitiveKind::user: return "user";
+  }
+  return "?";
+}
+
+namespace {
+
+/// Zero area in exact arithmetic: the edge cross product computed in double (products of floats are exact there).
+bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double e1x = double(b.x) - a.x, e1y = double(b.y) - a.y, e1z = double(b.z) - a.z;
+  const double e2x = double(c.x) - a.x, e2y = double(c.y) - a.y, e2z = double(c.z) - a.z;
+  const double nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
+  return nx == 0.0 && ny == 0.0 && nz == 0.0;
+}
+
+}  // namespace
+
+Scene Scene::from_mesh(TriangleMesh mesh, std::string name) {
+  Scene s;
+  s.name_ = std::move(name);
+  s.kind_ = PrimitiveKind::triangles;
+  const auto vertex_count = mesh.vertices.size();
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    for (std::uint32_t index : mesh.triangles[i]) {
+      if (index >= vertex_count) {
+        throw Error("triangle " + std::to_string(i) + " uses vertex index " + std::to_string(index) +
+                    ", but the mesh has only " + std::to_string(vertex_count) + " vertices");
+      }
+    }
+  }
+  s.mesh_ = std::move(mesh);
+  s.triangle_vertices_.resize(s.mesh_.triangles.size());
+  s.prim_bounds_.resize(s.mesh_.triangles.size());
+  for (std::uint32_t i = 0; i < s.mesh_.triangles.size(); ++i) s.derive_triangle(i);
+  s.finish_bounds();
+  return s;
+}
+
+Scene Scene::from_spheres(std::vector<Sphere> spheres, std::string name) {
+  Scene s;
+  s.name_ = std::move(name);
+  s.kind_ = PrimitiveKind::spheres;
+  s.spheres_ = std::move(spheres);
+  s.prim_bounds_.resize(s.spheres_.size());
+  for (std::size_t i = 0; i < s.spheres_.size(); ++i) {
+    const Sphere& sp = s.spheres_[i];
+    if (is_finite(sp.center) && std::isfinite(sp.radius) && sp.radius > 0.0f) {
+      const Vec3 r{sp.radius};
+      // Widen by one relative ulp-ish margin so float rounding of center +- radius never cuts the surface.
+      const Vec3 pad = abs(sp.center) * 0x1p-22f + Vec3{sp.radius * 0x1p-22f};
+      s.prim_bounds_[i] = AABB(sp.center - r - pad, sp.center + r + pad);
+    }
+  }
+  s.finish_bounds();
+  return s;
+}
+
+Scene Scene::from_user(UserPrimitives prims, std::string name) {
+  if (prims.count > 0 && (!prims.bounds || !prims.intersect)) {
+    throw Error("user primitives need both a bounds and an intersect callback");
+  }
+  Scene s;
+  s.name_ = std::move(name);
+  s.kind_ = PrimitiveKind::user;
+  s.user_ = std::move(prims);
+  s.prim_bounds_.resize(s.user_.count);
+  for (std::uint32_t i = 0; i < s.user_.count; ++i) {
+    const AABB b = s.user_.bounds(i);
+    if (b.is_finite() && !b.is_empty()) s.prim_bounds_[i] = b;
+  }
+  s.finish_bounds();
+  return s;
+}
+
+void Scene::derive_triangle(std::uint32_t id) {
+  const auto& idx = mesh_.triangles[id];
+  const Vec3& a = mesh_.vertices[idx[0]];
+  const Vec3& b = mesh_.vertices[idx[1]];
+  const Vec3& c = mesh_.vertices[idx[2]];
+  if (is_finite(a) && is_finite(b) && is_finite(c)) {
+    triangle_vertices_[id] = {a, b, c};
+    prim_bounds_[id] = AABB::of_point(a).extend(b).extend(c);
+  } else {
+    triangle_vertices_[id] = {Vec3{}, Vec3{}, Vec3{}};  // a point: the watertight test never hits it
+    prim_bounds_[id] = AABB::empty();
+  }
+}
+
+void Scene::finish_bounds() {
+  bounds_ = AABB::empty();
+  invalid_count_ = 0;
+  degenerate_count_ = 0;
+  for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
+    if (prim_bounds_[i].is_empty()) {
+      ++invalid_count_;
+      continue;
+    }
+    bounds_.extend(prim_bounds_[i]);
+    if (kind_ == PrimitiveKind::triangles) {
+      const auto& t = triangle_vertices_[i];
+      if (has_zero_area(t[0], t[1], t[2])) ++degenerate_count_;
+    }
+  }
+}
+
+std::vector<PrimRef> Scene::build_references() const {
+  std::vector<PrimRef> refs;
+  refs.reserve(prim_bounds_.size() - invalid_count_);
+  for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
+    if (!prim_bounds_[i].is_empty()) refs.push_back({prim_bounds_[i], i});
+  }
+  return refs;
+}
+
+int Scene::hull_points(std::uint32_t id, std::array<Vec3, 8>& out) const {
+  if (kind_ == PrimitiveKind::triangles) {
+    const auto& t = triangle_vertices_[id];
+    out[0] = t[0];
+    out[1] = t[1];
+    out[2] = t[2];
+    return 3;
+  }
+  const AABB& b = prim_bounds_[id];
+  for (int corner = 0; corner < 8; ++corner) {
+    out[corner] = {(corner & 1) ? b.hi.x : b.lo.x, (corner & 2) ? b.hi.y : b.lo.y, (corner & 4) ? b.hi.z : b.lo.z};
+  }
+  return 8;
+}
+
+Vec3 Scene::normal(const Ray& ray, const Hit& hit) const {
+  if (!hit.found()) return {};
+  const Vec3 p = ray.origin + ray.direction * hit.t;
+  switch (kind_) {
+    case PrimitiveKind::triangles: {
+      const auto& t = triangle_vertices_[hit.prim_id];
+      return normalize(cross(t[1] - t[0], t[2] - t[0]));
+    }
+    case PrimitiveKind::spheres:
+      return normalize(p - spheres_[hit.prim_id].center);
+    case PrimitiveKind::user:
+      return user_.normal ? normalize(user_.normal(hit.prim_id, p)) : normalize(-ray.direction);
+  }
+  return {};
+}
+
+void Scene::set_vertices(std::span<const Vec3> vertices) {
+  if (kind_ != PrimitiveKind::triangles) throw Error("set_vertices: the scene does not hold a triangle mesh");
+  if (vertices.size() != mesh_.vertices.size()) {
+    throw Error("set_vertices: got " + std::to_string(vertices.size()) + " vertices, the mesh has " +
+                std::to_string(mesh_.vertices.size()));
+  }
+  mesh_.vertices.assign(vertices.begin(), vertices.end());
+  for (std::uint32_t i = 0; i < mesh_.triangles.size(); ++i) derive_triangle(i);
+  finish_bounds();
+}
+
+std::uint32_t Scene::append_triangles(std::span<const Vec3> vertices,
+                                      std::span<const std::array<std::uint32_t, 3>> tris) {
+  if (kind_ != PrimitiveKind::triangles) throw Error("append_triangles: the scene does not hold a triangle mesh");
+  const auto first_id = static_cast<std::uint32_t>(mesh_.triangles.size());
+  const std::size_t new_vertex_count = mesh_.vertices.size() + vertices.size();
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    for (std::uint32_t index : tris[i]) {
+      if (index >= new_vertex_count) {
+        throw Error("append_triangles: new triangle " + std::to_string(i) + " uses vertex index " +
+                    std::to_string(index) + ", but the mesh will have only " + std::to_string(new_vertex_count));
+      }
+    }
+  }
+  mesh_.vertices.insert(mesh_.vertices.end(), vertices.begin(), vertices.end());
+  mesh_.triangles.insert(mesh_.triangles.end(), tris.begin(), tris.end());
+  triangle_vertices_.resize(mesh_.triangles.size());
+  prim_bounds_.resize(mesh_.triangles.size());
+  for (auto i = first_id; i < mesh_.triangles.size(); ++i) derive_triangle(i);
+  finish_bounds();
+  return first_id;
+}
+
+std::size_t Scene::memory_bytes() const {
+  return mesh_.vertices.size() * sizeof(Vec3) + mesh_.triangles.size() * sizeof(mesh_.triangles[0]) +
+         triangle_vertices_.size() * sizeof(triangle_vertices_[0]) + spheres_.size() * sizeof(Sphere) +
+         prim_bounds_.size() * sizeof(AABB);
+}
+
+}  // namespace rayaccel
