@@ -2,6 +2,7 @@
 // 1 runtime failure (unreadable file, mismatching structure), 2 usage error (bad option or value).
 #include <exception>
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include "cli_common.h"
@@ -13,6 +14,18 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<Command> commands = {add_list_command(app), add_info_command(app), add_trace_command(app),
                                          add_render_command(app), add_bench_command(app)};
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    std::string names;
+    for (const auto& command : commands) {
+      known = known || command.app->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + command.app->get_name();
+    }
+    if (!known) {
+      std::cerr << "rayaccel: error: unknown command '" << argv[1] << "' (known: " << names << ")\n";
+      return kExitUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
