@@ -31,7 +31,7 @@ CostRange cost_range(std::span<const TraversalStats> stats) {
 }
 
 float cost_fraction(std::uint64_t cost, const CostRange& range) {
-  if (range.max <= range.min) return 0.0f;
+  if (range.max <= range.min) return 0.5f;
   const double f = (static_cast<double>(cost) - static_cast<double>(range.min)) /
                    (static_cast<double>(range.max) - static_cast<double>(range.min));
   return static_cast<float>(std::clamp(f, 0.0, 1.0));
@@ -45,7 +45,9 @@ int heat_legend_height(int width, int height) {
 void draw_heat_legend(Image& image, const CostRange& range) {
   const int s = legend_scale(image.width, image.height);
   const int margin = 3 * s;
-  const int top = image.height - heat_legend_height(image.width, image.height);
+  const int legend_height = heat_legend_height(image.width, image.height);
+  if (3 * legend_height > image.height) return;
+  const int top = image.height - legend_height;
   image.fill_rect(0, top, image.width, image.height - top, kPanel);
 
   const int bar_x = margin, bar_y = top + margin, bar_w = std::max(1, image.width - 2 * margin), bar_h = 8 * s;

@@ -104,13 +104,13 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
 }
 
 Vec3 offset_ray_origin(const SurfacePoint& surface, const Vec3& n, const Vec3& w) {
-  const float distance = dot(abs(n), surface.error);
-  Vec3 offset = n * distance;
-  if (dot(w, n) < 0.0f) offset = -offset;
-  Vec3 origin = surface.point + offset;
+  const Vec3 side = dot(w, n) < 0.0f ? -n : n;
+  Vec3 origin = surface.point + side * dot(abs(n), surface.error);
+  // One more ulp along the normal per axis: the addition may have rounded back toward the surface, and a point
+  // computed exactly (error 0) still leaves the surface.
   for (int axis = 0; axis < 3; ++axis) {
-    if (offset[axis] > 0.0f) origin[axis] = std::nextafter(origin[axis], std::numeric_limits<float>::infinity());
-    if (offset[axis] < 0.0f) origin[axis] = std::nextafter(origin[axis], -std::numeric_limits<float>::infinity());
+    if (side[axis] > 0.0f) origin[axis] = std::nextafter(origin[axis], std::numeric_limits<float>::infinity());
+    if (side[axis] < 0.0f) origin[axis] = std::nextafter(origin[axis], -std::numeric_limits<float>::infinity());
   }
   return origin;
 }

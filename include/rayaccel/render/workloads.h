@@ -39,10 +39,11 @@ struct SurfacePoint {
 /// o + t d with a loose bound of 2^-16 * (|o| + |t d|), since their kernel's accuracy is unknown.
 SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 
-/// The origin of a ray leaving `surface` with unit normal `n` toward direction `w` (dot(w, n) > 0 expected):
-/// moved along n by dot(|n|, error), far enough to clear the error box, then rounded one ulp further away per
-/// axis so the rounding of the addition cannot pull it back (pbrt's OffsetRayOrigin). A ray from there with
-/// t_min = 0 and dot(w, n) > 0 does not re-hit the surface it left.
+/// The origin of a ray leaving `surface` with unit normal `n` toward direction `w` (dot(w, n) > 0 expected, n
+/// flipped otherwise): moved along n by dot(|n|, error), far enough to clear the error box, then one ulp further
+/// along n on each axis where n is nonzero, so neither the rounding of the addition nor an exact (error 0) point
+/// leaves it on the surface (pbrt's OffsetRayOrigin, plus the exact case). A ray from there with t_min = 0 and
+/// dot(w, n) > 0 does not re-hit the surface it left.
 Vec3 offset_ray_origin(const SurfacePoint& surface, const Vec3& n, const Vec3& w);
 
 }  // namespace rayaccel
