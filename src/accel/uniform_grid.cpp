@@ -66,7 +66,11 @@ std::vector<std::string> UniformGrid::validate() const {
   if (!scene_) return {"not built"};
   std::vector<std::string> problems;
   std::vector<std::uint8_t> seen(scene_->primitive_count(), 0);
-  validate_cell_lists(*scene_, lists_, frame_, pad_, exact_used_, seen, problems);
+  if (lists_.offsets.empty() || lists_.offsets.front() != 0 || lists_.offsets.back() != lists_.ids.size()) {
+    problems.push_back("offsets do not span the reference array exactly");
+    return problems;
+  }
+  validate_cell_lists(*scene_, lists_.offsets, lists_.ids, frame_, pad_, exact_used_, seen, problems);
   check_all_referenced(*scene_, seen, problems);
   if (prim_count_ > 0 && !frame_.box.contains(scene_->bounds())) problems.push_back("grid box does not hold the scene");
   return problems;

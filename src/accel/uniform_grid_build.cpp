@@ -127,22 +127,22 @@ bool primitive_overlaps_cell(const Scene& scene, std::uint32_t id, const AABB& c
   return triangle_overlaps_box(t[0], t[1], t[2], grown);
 }
 
-void validate_cell_lists(const Scene& scene, const CellLists& lists, const GridFrame& frame, float pad, bool exact,
+void validate_cell_lists(const Scene& scene, std::span<const std::uint32_t> offsets,
+                         std::span<const std::uint32_t> ids, const GridFrame& frame, float pad, bool exact,
                          std::vector<std::uint8_t>& seen, std::vector<std::string>& problems) {
   const std::size_t cells = frame.cell_count();
-  if (lists.offsets.size() != cells + 1) {
-    problems.push_back("offset array has " + std::to_string(lists.offsets.size()) + " entries for " +
+  if (offsets.size() != cells + 1) {
+    problems.push_back("offset array has " + std::to_string(offsets.size()) + " entries for " +
                        std::to_string(cells) + " cells");
     return;
   }
-  if (lists.offsets.front() != 0 || lists.offsets.back() != lists.ids.size()) {
-    problems.push_back("offsets do not span the reference array (first " + std::to_string(lists.offsets.front()) +
-                       ", last " + std::to_string(lists.offsets.back()) + ", references " +
-                       std::to_string(lists.ids.size()) + ")");
+  if (offsets.back() > ids.size()) {
+    problems.push_back("offsets end at " + std::to_string(offsets.back()) + ", past the " +
+                       std::to_string(ids.size()) + " references");
     return;
   }
   for (std::size_t c = 0; c < cells; ++c) {
-    if (lists.offsets[c] > lists.offsets[c + 1]) {
+    if (offsets[c] > offsets[c + 1]) {
       problems.push_back("offsets decrease at cell " + std::to_string(c));
       return;
     }
@@ -152,8 +152,8 @@ void validate_cell_lists(const Scene& scene, const CellLists& lists, const GridF
     for (int y = 0; y < frame.res[1]; ++y) {
       for (int x = 0; x < frame.res[0]; ++x) {
         const std::uint32_t c = frame.linear(x, y, z);
-        for (std::uint32_t i = lists.offsets[c]; i < lists.offsets[c + 1]; ++i) {
-          const std::uint32_t id = lists.ids[i];
+        for (std::uint32_t i = offsets[c]; i < offsets[c + 1]; ++i) {
+          const std::uint32_t id = ids[i];
           if (id >= scene.primitive_count() || !scene.is_valid(id)) {
             problems.push_back("cell " + std::to_string(c) + " references invalid primitive " + std::to_string(id));
             continue;

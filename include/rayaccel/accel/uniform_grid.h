@@ -46,9 +46,11 @@ CellLists bin_primitives(const Scene& scene, std::span<const PrimRef> refs, cons
 /// The binning rule for one primitive and one cell box (both before padding); validate() uses it.
 bool primitive_overlaps_cell(const Scene& scene, std::uint32_t id, const AABB& cell, float pad, bool exact);
 
-/// Checks compact cell lists against a frame: sizes, monotone offsets, ids in range and valid, each reference
-/// overlapping its cell. Sets seen[id] for every referenced primitive; appends one line per violation to `problems`.
-void validate_cell_lists(const Scene& scene, const CellLists& lists, const GridFrame& frame, float pad, bool exact,
+/// Checks the cell lists of one frame: `offsets` has cell_count + 1 monotone entries within `ids`; every id is a
+/// valid primitive that overlaps its cell. Sets seen[id] for each referenced primitive; appends one line per
+/// violation to `problems`.
+void validate_cell_lists(const Scene& scene, std::span<const std::uint32_t> offsets,
+                         std::span<const std::uint32_t> ids, const GridFrame& frame, float pad, bool exact,
                          std::vector<std::uint8_t>& seen, std::vector<std::string>& problems);
 
 /// Appends a violation when a valid primitive of the scene has seen[id] == 0.
