@@ -36,7 +36,8 @@ struct BenchArgs {
 
 constexpr int kTimedBuilds = 3;
 constexpr double kAffordableBuildMs = 2000.0;  // warm-up builds slower than this are the only build sample
-constexpr double kTraceBudgetMs = 10000.0;     // timed passes stop early once one workload has used this much
+constexpr double kCheapPassMs = 1000.0;        // trace passes faster than this get an untimed warm-up first
+constexpr double kTraceBudgetMs = 5000.0;      // timed passes stop early once one workload has used this much
 constexpr std::size_t kBruteForceSample = 2000;
 constexpr float kShadowDistanceFraction = 0.1f;  // shadow ray length / scene box diagonal
 constexpr std::uint64_t kDiffuseSeed = 1;
@@ -109,21 +110,26 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
   for (std::size_t k = 0; k < ctx.workloads.size(); ++k) {
     const Workload& w = ctx.workloads[k];
     KindResult& result = row.kinds[k];
-    ctx.progress.stage(fmt::format("{}: {}: tracing {} {} rays", ctx.scene.name(), row.spec, w.rays.size(),
-                                   to_string(w.kind)));
+    ctx.progress.step(fmt::format("tracing {} {} rays", w.rays.size(), to_string(w.kind)));
     std::vector<Hit> hits(w.any_hit() ? 0 : w.rays.size());
     std::vector<std::uint8_t> occluded(w.any_hit() ? w.rays.size() : 0);
-    double spent = 0.0;
-    for (int r = 0; r < ctx.args.repeat && (r == 0 || spent < kTraceBudgetMs); ++r) {
+    const auto pass = [&] {
       const Stopwatch clock;
       if (w.any_hit()) {
         accel.occluded(w.rays, occluded);
       } else {
         accel.intersect(w.rays, hits);
       }
-      result.trace_ms.push_back(clock.milliseconds());
+      return clock.milliseconds();
+    };
+    // A warm-up pass (threads started, caches filled) is discarded unless it was slow enough to be a fair sample.
+    const double warm_up_ms = pass();
+    if (warm_up_ms > kCheapPassMs) result.trace_ms.push_back(warm_up_ms);
+    double spent = warm_up_ms;
+    while (static_cast<int>(result.trace_ms.size()) < ctx.args.repeat && spent < kTraceBudgetMs) {
+      result.trace_ms.push_back(pass());
       spent += result.trace_ms.back();
-      ctx.progress.update(static_cast<float>(r + 1) / static_cast<float>(ctx.args.repeat));
+      ctx.progress.update(static_cast<float>(result.trace_ms.size()) / static_cast<float>(ctx.args.repeat));
     }
     const double ms = median(result.trace_ms);
     result.mrays_s_median = ms > 0.0 ? static_cast<double>(w.rays.size()) / (ms * 1e3) : 0.0;
@@ -154,7 +160,7 @@ void render_images(const SceneContext& ctx, const Accelerator& accel, const std:
   const std::filesystem::path dir(ctx.args.images);
   for (const auto mode : {ShadingMode::normals, ShadingMode::heatmap}) {
     const char* mode_name = mode == ShadingMode::normals ? "normals" : "heatmap";
-    ctx.progress.stage(fmt::format("{}: {}: rendering {}", ctx.scene.name(), spec, mode_name));
+    ctx.progress.step(fmt::format("rendering {}", mode_name));
     RenderSettings settings;
     settings.width = settings.height = ctx.args.resolution;
     settings.mode = mode;
@@ -165,7 +171,9 @@ void render_images(const SceneContext& ctx, const Accelerator& accel, const std:
   }
 }
 
-StructureResult measure(const SceneContext& ctx, const std::string& spec, bool is_embree) {
+StructureResult measure(const SceneContext& ctx, const std::string& spec, bool is_embree, std::size_t index,
+                        std::size_t count) {
+  ctx.progress.stage(fmt::format("{}: {} ({}/{})", ctx.scene.name(), spec, index, count));
   StructureResult row;
   row.spec = spec;
   row.is_embree = is_embree;
@@ -176,12 +184,12 @@ StructureResult measure(const SceneContext& ctx, const std::string& spec, bool i
     row.kinds.push_back(k);
   }
   try {
-    ctx.progress.stage(fmt::format("{}: {}: building", ctx.scene.name(), spec));
+    ctx.progress.step("building");
     std::unique_ptr<Accelerator> accel;
     time_builds(ctx, spec, row, accel);
     row.memory_bytes = accel->memory_bytes();
     row.build_statistics = accel->build_statistics();
-    ctx.progress.stage(fmt::format("{}: {}: validating and checking against the reference", ctx.scene.name(), spec));
+    ctx.progress.step("validating and checking against the reference");
     row.validate_problems = accel->validate();
     for (const auto& problem : row.validate_problems) {
       std::cerr << fmt::format("INVALID {} on {}: {}\n", spec, ctx.scene.name(), problem);
@@ -189,7 +197,7 @@ StructureResult measure(const SceneContext& ctx, const std::string& spec, bool i
     if (!is_embree) ctx.check.check(*accel, row.kinds);
     time_traces(ctx, *accel, row);
     if (!is_embree) {
-      ctx.progress.stage(fmt::format("{}: {}: counting traversal steps", ctx.scene.name(), spec));
+      ctx.progress.step("counting traversal steps");
       count_traversal(ctx, *accel, row);
       if (!ctx.args.images.empty()) render_images(ctx, *accel, spec);
     }
@@ -262,8 +270,9 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
   report.resolution = args.resolution;
   report.reference = check.description();
   const SceneContext ctx{scene, camera, workloads, check, args, threads, progress};
-  if (compare_embree && embree) report.rows.push_back(measure(ctx, "embree", true));
-  for (const auto& spec : specs) report.rows.push_back(measure(ctx, spec, false));
+  const std::size_t count = specs.size() + (compare_embree && embree ? 1 : 0);
+  if (compare_embree && embree) report.rows.push_back(measure(ctx, "embree", true, 1, count));
+  for (const auto& spec : specs) report.rows.push_back(measure(ctx, spec, false, report.rows.size() + 1, count));
   progress.done();
   return report;
 }

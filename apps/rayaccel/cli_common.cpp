@@ -106,13 +106,20 @@ double median(std::vector<double> values) {
 void Progress::stage(const std::string& label) {
   done();
   label_ = label;
+  step_.clear();
   last_percent_ = -1;
   open_ = true;
   if (isatty(fileno(stderr))) {
-    std::cerr << "\r\033[K" << label_ << std::flush;
+    redraw();
   } else {
     std::cerr << label_ << "\n";
   }
+}
+
+void Progress::step(const std::string& label) {
+  step_ = label;
+  last_percent_ = -1;
+  if (open_ && isatty(fileno(stderr))) redraw();
 }
 
 void Progress::update(float fraction) {
@@ -120,7 +127,14 @@ void Progress::update(float fraction) {
   const int percent = static_cast<int>(std::clamp(fraction, 0.0f, 1.0f) * 100.0f);
   if (percent == last_percent_) return;
   last_percent_ = percent;
-  std::cerr << "\r\033[K" << label_ << " " << percent << "%" << std::flush;
+  redraw();
+}
+
+void Progress::redraw() const {
+  std::cerr << "\r\033[K" << label_;
+  if (!step_.empty()) std::cerr << ": " << step_;
+  if (last_percent_ >= 0) std::cerr << " " << last_percent_ << "%";
+  std::cerr << std::flush;
 }
 
 void Progress::done() {

@@ -61,17 +61,23 @@ class Stopwatch {
 
 double median(std::vector<double> values);
 
-/// A one-line progress display on stderr: redrawn in place on a terminal, one line per stage otherwise.
+/// A one-line progress display on stderr. On a terminal it is redrawn in place with the current step and
+/// percentage; otherwise each stage prints one line and steps and percentages are not shown.
 class Progress {
  public:
-  /// Starts a stage; `fraction` updates redraw it.
+  /// Starts a stage (a line of its own when stderr is not a terminal).
   void stage(const std::string& label);
+  /// A step within the current stage; shown only on a terminal.
+  void step(const std::string& label);
   void update(float fraction);
   /// Ends the current line.
   void done();
 
  private:
+  void redraw() const;
+
   std::string label_;
+  std::string step_;
   int last_percent_ = -1;
   bool open_ = false;
 };
