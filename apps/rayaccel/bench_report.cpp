@@ -111,6 +111,12 @@ void print_table(const SceneReport& report) {
     rows.push_back(cells);
   }
   print_aligned(rows);
+  for (const auto& row : report.rows) {
+    if (row.build_statistics.empty() || row.is_embree) continue;
+    std::string line;
+    for (const auto& s : row.build_statistics) line += fmt::format("{}{}={:.4g}", line.empty() ? "" : ", ", s.name, s.value);
+    fmt::print("  {}: {}\n", row.spec, line);
+  }
   std::size_t differences = 0;
   for (const auto& row : report.rows) {
     for (const auto& k : row.kinds) differences += k.reference_differences;
