@@ -42,7 +42,9 @@ void append_assimp_mesh(TriangleMesh& out, const aiScene& scene, unsigned mesh_i
   const aiMesh& mesh = *scene.mMeshes[mesh_index];
   const auto base = static_cast<std::uint32_t>(out.vertices.size());
   out.vertices.reserve(out.vertices.size() + mesh.mNumVertices);
-  for (unsigned i = 0; i < mesh.mNumVertices; ++i) out.vertices.push_back(transform_point(transform, mesh.mVertices[i]));
+  for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
+    out.vertices.push_back(transform_point(transform, mesh.mVertices[i]));
+  }
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
     const aiFace& face = mesh.mFaces[f];
     for (unsigned k = 0; k < face.mNumIndices; ++k) {

@@ -108,6 +108,28 @@ TEST(ImportMesh, ObjObjectsAreConcatenatedInFileOrder) {
   EXPECT_EQ(corners(mesh, 2), (std::array<Vec3, 3>{kSquare[4], kSquare[0], kSquare[1]}));
 }
 
+TEST(ImportMesh, SceneGraphIsWalkedDepthFirstWithNodeTransforms) {
+  // glTF: node 0 (mesh 0, moved +10 in x), node 1 (mesh 0 again, moved +20 in y) with a child (mesh 1, scaled 2).
+  TempDir dir;
+  const auto file = dir.write("graph.gltf",
+      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],)"
+      R"("nodes":[{"mesh":0,"translation":[10,0,0]},)"
+      R"({"mesh":0,"children":[2],"translation":[0,20,0]},{"mesh":1,"scale":[2,2,2]}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]},)"
+      R"({"primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":4}]}],)"
+      R"("buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,)"
+      R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}],)"
+      R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},)"
+      R"({"buffer":0,"byteOffset":36,"byteLength":6}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+      R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})");
+  const TriangleMesh mesh = import_mesh(file);
+  ASSERT_EQ(mesh.triangles.size(), 3u);
+  EXPECT_EQ(corners(mesh, 0), (std::array<Vec3, 3>{Vec3{10, 0, 0}, Vec3{11, 0, 0}, Vec3{10, 1, 0}}));
+  EXPECT_EQ(corners(mesh, 1), (std::array<Vec3, 3>{Vec3{0, 20, 0}, Vec3{1, 20, 0}, Vec3{0, 21, 0}}));
+  EXPECT_EQ(corners(mesh, 2), (std::array<Vec3, 3>{Vec3{0, 20, 0}, Vec3{2, 20, 0}, Vec3{0, 22, 0}}));
+}
+
 TEST(ImportMesh, NanVertexIsKeptAndItsTrianglesAreInvalid) {
   TempDir dir;
   std::vector<Vec3> vertices = kSquare;
@@ -123,7 +145,8 @@ TEST(ImportMesh, NanVertexIsKeptAndItsTrianglesAreInvalid) {
   EXPECT_TRUE(scene.is_valid(2));
 
   // In text files assimp's number parser turns a vertex holding "nan" or "inf" into non-finite values too.
-  const auto text = dir.write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nv 0 0 inf\nv 1 1 1\nf 1 2 3\nf 1 3 4\nf 3 1 2\nf 1 3 5\n");
+  const auto text =
+      dir.write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nv 0 0 inf\nv 1 1 1\nf 1 2 3\nf 1 3 4\nf 3 1 2\nf 1 3 5\n");
   const Scene from_text = Scene::from_mesh(import_mesh(text));
   ASSERT_EQ(from_text.primitive_count(), 4u);
   EXPECT_EQ(from_text.invalid_count(), 3u);
