@@ -1,11 +1,13 @@
 // The list of built-in structures, in the order `rayaccel list` shows them. Each module adds one line here.
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/bvh/bvh_registry.h"
 
 namespace rayaccel {
 
 void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_brute_force(registry);
+  register_bvh(registry);
 }
 
 }  // namespace rayaccel
