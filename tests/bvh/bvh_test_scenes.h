@@ -127,13 +127,29 @@ inline std::vector<Ray> random_rays(const AABB& box_in, std::uint32_t count, std
 
 /// Expects the accelerator (already built over scene) to agree with brute force on every ray: closest t within
 /// 1e-6 relative, the same primitive unless two are hit at that t, and the same any-hit answer.
-inline void expect_agrees_with_brute_force(const Accelerator& accel, const Scene& scene,
-                                           const std::vector<Ray>& rays, const std::string& label) {
+/// Brute-force answers for rays over a scene; compute once and compare several structures against them.
+struct OracleAnswers {
+  std::vector<Hit> hits;
+  std::vector<std::uint8_t> occluded;
+};
+
+inline OracleAnswers oracle_answers(const Scene& scene, const std::vector<Ray>& rays) {
   BruteForce oracle;
   oracle.build(scene);
+  OracleAnswers out;
+  out.hits.resize(rays.size());
+  out.occluded.resize(rays.size());
+  oracle.intersect(rays, out.hits);
+  oracle.occluded(rays, out.occluded);
+  return out;
+}
+
+inline void expect_agrees_with_brute_force(const Accelerator& accel, const Scene& scene,
+                                           const std::vector<Ray>& rays, const OracleAnswers& oracle,
+                                           const std::string& label) {
   int reported = 0;
   for (std::size_t i = 0; i < rays.size() && reported < 5; ++i) {
-    const Hit want = oracle.intersect(rays[i]);
+    const Hit want = oracle.hits[i];
     const Hit got = accel.intersect(rays[i]);
     bool ok = want.found() == got.found();
     if (ok && want.found()) {
@@ -145,7 +161,7 @@ inline void expect_agrees_with_brute_force(const Accelerator& accel, const Scene
         ok = scene.intersect(got.prim_id, pr, h) && std::fabs(h.t - want.t) <= 1e-6f * std::fabs(want.t);
       }
     }
-    const bool want_occluded = oracle.occluded(rays[i]);
+    const bool want_occluded = oracle.occluded[i] != 0;
     ok = ok && accel.occluded(rays[i]) == want_occluded && want_occluded == want.found();
     if (!ok) {
       ++reported;
@@ -153,6 +169,15 @@ inline void expect_agrees_with_brute_force(const Accelerator& accel, const Scene
                     << want.prim_id << " t " << want.t;
     }
   }
+}
+
+}  // namespace rayaccel::bvh_test
+
+namespace rayaccel::bvh_test {
+
+inline void expect_agrees_with_brute_force(const Accelerator& accel, const Scene& scene,
+                                           const std::vector<Ray>& rays, const std::string& label) {
+  expect_agrees_with_brute_force(accel, scene, rays, oracle_answers(scene, rays), label);
 }
 
 }  // namespace rayaccel::bvh_test
