@@ -7,8 +7,8 @@
 #include <string>
 
 #include "rayaccel/bvh/binned_sah_builder.h"
-#include "rayaccel/bvh/clip_polygon.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/geometry/clip_polygon.h"
 
 namespace rayaccel {
 
@@ -96,7 +96,7 @@ class SbvhBuilder {
     slab.hi[axis] = std::min(slab.hi[axis], hi);
     if (slab.is_empty()) return AABB::empty();
     const auto& t = scene_.triangle(ref.prim_id);
-    return clipped_triangle_bounds(t[0], t[1], t[2], slab);
+    return clip_triangle_to_box(t[0], t[1], t[2], slab);
   }
 
   SpatialSplit find_spatial_split(const std::vector<PrimRef>& refs, const AABB& bounds) const {

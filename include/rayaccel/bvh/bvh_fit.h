@@ -83,8 +83,7 @@ template <BoundingVolume BV>
 int Bvh<BV>::slot_points(std::uint32_t slot, ClippedPolygon& out) const {
   const std::uint32_t id = prim_ids_[slot];
   if (!part_bounds_.empty() && scene_->kind() == PrimitiveKind::triangles) {
-    const auto& t = scene_->triangle(id);
-    return clip_triangle_to_box(t[0], t[1], t[2], pad_for_rounding(part_bounds_[slot]), out);
+    return clip_triangle_polygon(scene_->triangle(id), part_bounds_[slot], out);
   }
   std::array<Vec3, 8> hull;
   const int n = scene_->hull_points(id, hull);

@@ -99,7 +99,7 @@ std::vector<std::string> Bvh<BV>::validate() const {
     if (!triangles_.empty() && triangles_[s] != scene_->triangle(id)) {
       report("slot " + std::to_string(s) + " holds a stale copy of triangle " + std::to_string(id));
     }
-    if (!part_bounds_.empty() && !pad_for_rounding(scene_->primitive_bounds(id)).contains(part_bounds_[s])) {
+    if (!part_bounds_.empty() && !widen_for_clipping(scene_->primitive_bounds(id)).contains(part_bounds_[s])) {
       report("slot " + std::to_string(s) + ": the clipped part of primitive " + std::to_string(id) +
              " lies outside the primitive's bounds");
     }
