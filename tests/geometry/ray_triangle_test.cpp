@@ -101,6 +101,18 @@ TEST(RayTriangle, TMaxIsInclusiveAndTMinExclusive) {
   EXPECT_FALSE(intersect_triangle(r, tri[0], tri[1], tri[2], 0, hit)) << "equal t does not replace an earlier hit";
 }
 
+TEST(RayTriangle, HugeAndTinyCoordinates) {
+  // Edge functions grow with the square of the coordinates and the scaled t with their cube: the test must still
+  // find these hits (a float overflow of that product turns t into inf or NaN, a silent miss).
+  for (float scale : {1e-18f, 1e-10f, 1.0f, 1e6f, 1e12f, 1e15f, 1e18f}) {
+    const Triangle tri{Vec3{-1, -1, 5} * scale, Vec3{3, -1, 5} * scale, Vec3{-1, 3, 5} * scale};
+    Hit hit;
+    EXPECT_TRUE(hit_triangle(Ray{{0, 0, 0}, 0.0f, {0, 0, 1}, kInf}, tri, &hit)) << "scale " << scale;
+    EXPECT_FLOAT_EQ(hit.t, 5.0f * scale) << "scale " << scale;
+    EXPECT_TRUE(hit_triangle(Ray{Vec3{0.5f, 0.5f, 0} * scale, 0.0f, {0.1f, -0.2f, 1}, kInf}, tri)) << "scale " << scale;
+  }
+}
+
 /// Vertices of an n x n grid of unit quads on a tilted plane (each vertex rounded on its own, so the grid is only
 /// nearly planar); two triangles per quad, vertices shared.
 struct Grid {
