@@ -1,5 +1,6 @@
 // The list of built-in structures, in the order `rayaccel list` shows them. Each module adds one line here.
 #include "rayaccel/accel/brute_force.h"
+#include "rayaccel/accel/bsp_tree.h"
 #include "rayaccel/accel/kd_tree.h"
 #include "rayaccel/accel/registry.h"
 
@@ -8,6 +9,7 @@ namespace rayaccel {
 void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_brute_force(registry);
   register_kd_tree(registry);
+  register_bsp_tree(registry);
 }
 
 }  // namespace rayaccel
