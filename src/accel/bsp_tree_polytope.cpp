@@ -30,11 +30,11 @@ VectorArea vector_area(const Vec3* p, int n) {
   return a;
 }
 
-/// Scratch buffers for face clipping (reused, so split_areas() allocates nothing once warmed up).
-std::vector<Vec3>& scratch(int which, std::size_t size) {
-  thread_local std::vector<Vec3> buffers[2];
-  if (buffers[which].size() < size) buffers[which].resize(size);
-  return buffers[which];
+/// Scratch buffer for face clipping (reused, so split_areas() allocates nothing once warmed up).
+std::vector<Vec3>& scratch(std::size_t size) {
+  thread_local std::vector<Vec3> buffer;
+  if (buffer.size() < size) buffer.resize(size);
+  return buffer;
 }
 
 /// A unit vector orthogonal to n.
@@ -77,7 +77,7 @@ Polytope Polytope::from_box(const AABB& box) {
       }
       // (u, v) counter-clockwise faces +axis; reverse on the low side so every face winds outward.
       if (!high) std::reverse(f.vertices.begin(), f.vertices.end());
-      p.faces_.push_back(std::move(f));
+      p.add_face(std::move(f));
     }
   }
   return p;
@@ -85,7 +85,7 @@ Polytope Polytope::from_box(const AABB& box) {
 
 double Polytope::surface_area() const {
   double area = 0.0;
-  for (const Face& f : faces_) area += polygon_area(f.vertices.data(), int(f.vertices.size()));
+  for (const Face& f : faces_) area += f.area;
   return area;
 }
 
@@ -101,24 +101,54 @@ void Polytope::extent(const Vec3& n, double& lo, double& hi) const {
   }
 }
 
+void Polytope::add_face(Face face) {
+  const VectorArea a = vector_area(face.vertices.data(), int(face.vertices.size()));
+  face.vector_area[0] = a.x;
+  face.vector_area[1] = a.y;
+  face.vector_area[2] = a.z;
+  face.area = a.length();
+  faces_.push_back(std::move(face));
+}
+
 void Polytope::split_areas(const Vec3& n, double d, double& below, double& above) const {
   double area_below = 0.0, area_above = 0.0;
   VectorArea sum_below, sum_above;
+  auto add = [](VectorArea& sum, double x, double y, double z) {
+    sum.x += x;
+    sum.y += y;
+    sum.z += z;
+  };
   for (const Face& f : faces_) {
     const int m = int(f.vertices.size());
-    std::vector<Vec3>& out = scratch(0, std::size_t(m) + 1);
-    int k = clip_polygon_to_halfspace(f.vertices.data(), m, n, d, out.data());
-    if (k >= 3) {
-      area_below += polygon_area(out.data(), k);
-      const VectorArea a = vector_area(out.data(), k);
-      sum_below.x += a.x; sum_below.y += a.y; sum_below.z += a.z;
+    bool any_below = false, any_above = false;
+    for (const Vec3& p : f.vertices) {
+      const double s = double(n.x) * p.x + double(n.y) * p.y + double(n.z) * p.z - d;
+      any_below = any_below || s < 0.0;
+      any_above = any_above || s > 0.0;
     }
-    k = clip_polygon_to_halfspace(f.vertices.data(), m, -n, -d, out.data());
-    if (k >= 3) {
-      area_above += polygon_area(out.data(), k);
-      const VectorArea a = vector_area(out.data(), k);
-      sum_above.x += a.x; sum_above.y += a.y; sum_above.z += a.z;
+    const double* fa = f.vector_area;
+    if (!any_above) {  // entirely below, or lying in the plane: both closed halves hold it
+      area_below += f.area;
+      add(sum_below, fa[0], fa[1], fa[2]);
+      if (!any_below) {
+        area_above += f.area;
+        add(sum_above, fa[0], fa[1], fa[2]);
+      }
+      continue;
     }
+    if (!any_below) {
+      area_above += f.area;
+      add(sum_above, fa[0], fa[1], fa[2]);
+      continue;
+    }
+    std::vector<Vec3>& out = scratch(std::size_t(m) + 1);
+    const int k = clip_polygon_to_halfspace(f.vertices.data(), m, n, d, out.data());
+    const VectorArea b = vector_area(out.data(), k);
+    area_below += b.length();
+    add(sum_below, b.x, b.y, b.z);
+    const double ax = fa[0] - b.x, ay = fa[1] - b.y, az = fa[2] - b.z;
+    area_above += std::sqrt(ax * ax + ay * ay + az * az);
+    add(sum_above, ax, ay, az);
   }
   below = area_below + sum_below.length();
   above = area_above + sum_above.length();
@@ -144,7 +174,7 @@ Polytope Polytope::clip(const Vec3& n, double d, bool keep_below) const {
     const int k = clip_polygon_to_halfspace(f.vertices.data(), int(f.vertices.size()), m, md, g.vertices.data());
     if (k < 3) continue;
     g.vertices.resize(std::size_t(k));
-    out.faces_.push_back(std::move(g));
+    out.add_face(std::move(g));
   }
   if (out.faces_.empty() || count == 0) return {};
   // The cut: a square in the plane, centred on the projected centroid and larger than the cell, clipped by every
@@ -169,7 +199,7 @@ Polytope Polytope::clip(const Vec3& n, double d, bool keep_below) const {
     g.normal = m;
     g.offset = md;
     g.vertices = std::move(cap);
-    out.faces_.push_back(std::move(g));
+    out.add_face(std::move(g));
   }
   return out;
 }

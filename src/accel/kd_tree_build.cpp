@@ -67,7 +67,8 @@ class MedianBuilder {
         if (r.bounds.lo[axis] <= split) add_clipped(below, r.prim_id, child_cell(cell, axis, split, false));
         if (r.bounds.hi[axis] >= split) add_clipped(above, r.prim_id, child_cell(cell, axis, split, true));
       }
-      can_split = below.size() < n || above.size() < n;  // no progress when every reference straddles
+      // Stop where a side does not shrink: below that, straddling references would only be copied again.
+      can_split = below.size() < n && above.size() < n;
     }
     if (!can_split) {
       std::vector<std::uint32_t> prims(n);

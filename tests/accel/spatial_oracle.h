@@ -57,8 +57,9 @@ inline Scene closed_sphere(int rings, int segments) {
   return Scene::from_mesh(std::move(mesh), "sphere");
 }
 
-/// Unit quads (two triangles each) on the integer planes x = 0..n-1 and z = 0..n-1, each spanning [0, n-1] in its
-/// other two coordinates: every split plane a builder can pick lies on a quad, and rays along them are parallel.
+/// Quads (two triangles each) on the integer planes x = 0..n-1 and z = 0..n-1, each spanning [0, n-1] in its other
+/// two coordinates, plus fins touching those planes from one side: split planes land on the quads, and rays
+/// moving within a plane hit fins exactly on their in-plane edges.
 inline Scene quad_grid(int n) {
   TriangleMesh mesh;
   const float e = float(n - 1);
@@ -68,10 +69,23 @@ inline Scene quad_grid(int n) {
     mesh.triangles.push_back({base, base + 1, base + 2});
     mesh.triangles.push_back({base, base + 2, base + 3});
   };
+  auto triangle = [&](Vec3 a, Vec3 b, Vec3 c) {
+    const auto base = std::uint32_t(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), {a, b, c});
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  };
   for (int i = 0; i < n; ++i) {
     const float k = float(i);
     quad({k, 0, 0}, {k, e, 0}, {k, e, e}, {k, 0, e});
     quad({0, 0, k}, {e, 0, k}, {e, e, k}, {0, e, k});
+    // Fins: triangles with one edge in the plane x = k (or z = k) that reach into one side only, so a ray moving
+    // in the plane hits them on that edge and a traversal that drops either side misses some.
+    for (int j = 0; j + 1 < n; ++j) {
+      const float a = float(j) + 0.2f, b = float((i + j) % n) + 0.3f;
+      const float side = (j % 2) ? 0.4f : -0.4f;
+      triangle({k, a, b}, {k, a + 0.6f, b + 0.5f}, {k + side, a + 0.3f, b + 0.2f});
+      triangle({b, a, k}, {b + 0.5f, a + 0.6f, k}, {b + 0.2f, a + 0.3f, k - side});
+    }
   }
   return Scene::from_mesh(std::move(mesh), "quad_grid");
 }

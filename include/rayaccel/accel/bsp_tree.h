@@ -61,6 +61,8 @@ class Polytope {
     Vec3 normal;  ///< outward unit normal
     double offset = 0.0;  ///< the face lies in dot(normal, p) == offset
     std::vector<Vec3> vertices;
+    double area = 0.0;                         ///< cached polygon area
+    double vector_area[3] = {0.0, 0.0, 0.0};  ///< cached area times unit normal (right-hand winding)
   };
   static Polytope from_box(const AABB& box);
   const std::vector<Face>& faces() const { return faces_; }
@@ -68,7 +70,8 @@ class Polytope {
   double surface_area() const;
   /// Surface areas of the parts below (dot(n, p) <= d) and above the plane, without building them: the clipped
   /// faces plus the cut, whose area is the length of the summed vector areas of the clipped faces (a closed
-  /// surface's vector areas sum to zero).
+  /// surface's vector areas sum to zero). Only faces the plane crosses are clipped, and only once: the part above
+  /// is the face minus the part below.
   void split_areas(const Vec3& n, double d, double& below, double& above) const;
   /// The part below (keep_below) or above the plane, closed by a new face in the plane; empty when nothing is left.
   Polytope clip(const Vec3& n, double d, bool keep_below) const;
@@ -76,6 +79,8 @@ class Polytope {
   void extent(const Vec3& n, double& lo, double& hi) const;
 
  private:
+  void add_face(Face face);
+
   std::vector<Face> faces_;
 };
 
