@@ -118,11 +118,11 @@ class BspBuilder {
   }
 
   /// SAH cost of a plane given the counts on each side.
-  void consider(const Polytope& cell, double area, const Plane& h, std::size_t n, std::size_t n_below,
+  void consider(const Polytope::Slicer& slicer, double area, const Plane& h, std::size_t n, std::size_t n_below,
                 std::size_t n_above, Candidate& best) const {
     if (n_below == n && n_above == n) return;  // no progress
     double a_below = 0.0, a_above = 0.0;
-    cell.split_areas(h.normal, h.offset, a_below, a_above);
+    slicer.split_areas(h.offset, a_below, a_above);
     const double cost = options_.traversal_cost + options_.intersection_cost *
                                                       (a_below / area * double(n_below) + a_above / area * double(n_above));
     if (cost < best.cost) best = {cost, h};
@@ -158,10 +158,11 @@ class BspBuilder {
     std::sort(his_.begin(), his_.end());
     std::sort(positions_.begin(), positions_.end());
     positions_.erase(std::unique(positions_.begin(), positions_.end()), positions_.end());
+    const Polytope::Slicer slicer(cell, dir);
     for (float d : positions_) {
       const auto n_below = std::size_t(std::upper_bound(los_.begin(), los_.end(), double(d)) - los_.begin());
       const auto n_above = std::size_t(his_.end() - std::lower_bound(his_.begin(), his_.end(), double(d)));
-      consider(cell, area, {dir, d}, n, n_below, n_above, best);
+      consider(slicer, area, {dir, d}, n, n_below, n_above, best);
     }
   }
 
@@ -194,7 +195,7 @@ class BspBuilder {
         n_below += e.reaches_below(h.offset) ? 1 : 0;
         n_above += e.reaches_above(h.offset) ? 1 : 0;
       }
-      consider(cell, area, h, n, n_below, n_above, best);
+      consider(Polytope::Slicer(cell, h.normal), area, h, n, n_below, n_above, best);
     }
     return best;
   }

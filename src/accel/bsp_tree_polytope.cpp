@@ -2,6 +2,7 @@
 // geometry/clip_polygon.h, the cut closed by a large square clipped to every face plane) and split surface areas.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "rayaccel/accel/bsp_tree.h"
@@ -110,7 +111,20 @@ void Polytope::add_face(Face face) {
   faces_.push_back(std::move(face));
 }
 
-void Polytope::split_areas(const Vec3& n, double d, double& below, double& above) const {
+Polytope::Slicer::Slicer(const Polytope& polytope, const Vec3& n) : polytope_(polytope), normal_(n) {
+  for (const Face& f : polytope.faces_) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vec3& p : f.vertices) {
+      const double s = double(n.x) * p.x + double(n.y) * p.y + double(n.z) * p.z;
+      lo = std::min(lo, s);
+      hi = std::max(hi, s);
+    }
+    lo_.push_back(lo);
+    hi_.push_back(hi);
+  }
+}
+
+void Polytope::Slicer::split_areas(double d, double& below, double& above) const {
   double area_below = 0.0, area_above = 0.0;
   VectorArea sum_below, sum_above;
   auto add = [](VectorArea& sum, double x, double y, double z) {
@@ -118,40 +132,34 @@ void Polytope::split_areas(const Vec3& n, double d, double& below, double& above
     sum.y += y;
     sum.z += z;
   };
-  for (const Face& f : faces_) {
-    const int m = int(f.vertices.size());
-    bool any_below = false, any_above = false;
-    for (const Vec3& p : f.vertices) {
-      const double s = double(n.x) * p.x + double(n.y) * p.y + double(n.z) * p.z - d;
-      any_below = any_below || s < 0.0;
-      any_above = any_above || s > 0.0;
-    }
+  for (std::size_t i = 0; i < polytope_.faces_.size(); ++i) {
+    const Face& f = polytope_.faces_[i];
     const double* fa = f.vector_area;
-    if (!any_above) {  // entirely below, or lying in the plane: both closed halves hold it
+    if (hi_[i] <= d) {  // entirely below, or lying in the plane: both closed halves hold it
       area_below += f.area;
       add(sum_below, fa[0], fa[1], fa[2]);
-      if (!any_below) {
-        area_above += f.area;
-        add(sum_above, fa[0], fa[1], fa[2]);
-      }
-      continue;
     }
-    if (!any_below) {
+    if (lo_[i] >= d) {
       area_above += f.area;
       add(sum_above, fa[0], fa[1], fa[2]);
-      continue;
     }
+    if (hi_[i] <= d || lo_[i] >= d) continue;
+    const int m = int(f.vertices.size());
     std::vector<Vec3>& out = scratch(std::size_t(m) + 1);
-    const int k = clip_polygon_to_halfspace(f.vertices.data(), m, n, d, out.data());
+    const int k = clip_polygon_to_halfspace(f.vertices.data(), m, normal_, d, out.data());
     const VectorArea b = vector_area(out.data(), k);
     area_below += b.length();
     add(sum_below, b.x, b.y, b.z);
-    const double ax = fa[0] - b.x, ay = fa[1] - b.y, az = fa[2] - b.z;
+    const double ax = fa[0] - b.x, ay = fa[1] - b.y, az = fa[2] - b.z;  // the rest of the face, same winding
     area_above += std::sqrt(ax * ax + ay * ay + az * az);
     add(sum_above, ax, ay, az);
   }
   below = area_below + sum_below.length();
   above = area_above + sum_above.length();
+}
+
+void Polytope::split_areas(const Vec3& n, double d, double& below, double& above) const {
+  Slicer(*this, n).split_areas(d, below, above);
 }
 
 Polytope Polytope::clip(const Vec3& n, double d, bool keep_below) const {

@@ -73,6 +73,18 @@ class Polytope {
   /// surface's vector areas sum to zero). Only faces the plane crosses are clipped, and only once: the part above
   /// is the face minus the part below.
   void split_areas(const Vec3& n, double d, double& below, double& above) const;
+  /// split_areas() for many offsets along one normal: the faces' extents along `n` are computed once, so only
+  /// faces an offset actually crosses are clipped.
+  class Slicer {
+   public:
+    Slicer(const Polytope& polytope, const Vec3& n);
+    void split_areas(double d, double& below, double& above) const;
+
+   private:
+    const Polytope& polytope_;
+    Vec3 normal_;
+    std::vector<double> lo_, hi_;  ///< per face: extent of its vertices along the normal
+  };
   /// The part below (keep_below) or above the plane, closed by a new face in the plane; empty when nothing is left.
   Polytope clip(const Vec3& n, double d, bool keep_below) const;
   /// Extent of the vertices along direction n.
