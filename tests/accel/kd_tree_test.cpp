@@ -8,7 +8,7 @@
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/clip_polygon.h"
-#include "spatial_oracle.h"
+#include "split_plane_oracle.h"
 
 namespace rayaccel {
 namespace {
