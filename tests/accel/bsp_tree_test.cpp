@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -42,6 +43,31 @@ TEST(BspPolytope, BoxAreaAndSplitAreas) {
   EXPECT_NEAR(below, 24.0, 1e-9);
   EXPECT_EQ(above, 0.0);
   EXPECT_TRUE(box.clip({1, 0, 0}, 5.0, false).is_empty());
+}
+
+TEST(BspTree, ValidateReportsCorruptedTrees) {
+  const Scene scene = spatial_test::random_soup(300, 52);
+  BspTree tree;
+  tree.build(scene);
+  ASSERT_TRUE(tree.validate().empty());
+  // The tree object is not const, so writing through the const view is well defined; each edit breaks one invariant.
+  auto& data = const_cast<BspTreeData&>(tree.data());
+  const BspTreeData good = data;
+  auto interior = std::find_if(data.nodes.begin(), data.nodes.end(), [](const BspNode& n) { return !n.is_leaf(); });
+  ASSERT_NE(interior, data.nodes.end());
+  interior->offset += 10.0f;  // every reference below now lies outside its cell
+  EXPECT_FALSE(tree.validate().empty()) << "a plane moved away";
+  data = good;
+  interior->normal = interior->normal * 2.0f;
+  EXPECT_FALSE(tree.validate().empty()) << "a normal that is not unit length";
+  data = good;
+  data.max_depth = 1;
+  EXPECT_FALSE(tree.validate().empty()) << "a tree deeper than its limit";
+  data = good;
+  data.prim_indices.assign(data.prim_indices.size(), data.prim_indices.front());
+  EXPECT_FALSE(tree.validate().empty()) << "primitives in no leaf";
+  data = good;
+  EXPECT_TRUE(tree.validate().empty());
 }
 
 TEST(BspTree, RejectsBadOptions) {
