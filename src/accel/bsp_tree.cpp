@@ -28,12 +28,9 @@ struct PathPlane {
 };
 
 /// True when some part of the point set (a triangle when `polygon`, else box corners) lies in every half-space of
-/// the path, each widened by 2^-20 of the magnitudes involved (the builder's tolerance is 2^-21).
-bool reaches_cell(std::vector<Vec3> points, bool polygon, const std::vector<PathPlane>& path) {
+/// the path, each widened by `tolerance` (twice the builder's).
+bool reaches_cell(std::vector<Vec3> points, bool polygon, const std::vector<PathPlane>& path, double tolerance) {
   for (const PathPlane& h : path) {
-    double scale = std::fabs(h.offset);
-    for (const Vec3& p : points) scale = std::max(scale, double(length(abs(h.normal) * abs(p))) * 2.0);
-    const double tolerance = 0x1p-20 * scale;
     const Vec3 n = h.below ? h.normal : -h.normal;
     const double d = (h.below ? h.offset : -h.offset) + tolerance;
     if (polygon) {
@@ -133,7 +130,7 @@ std::vector<std::string> BspTree::validate() const {
       std::array<Vec3, 8> hull;
       const int k = scene_->hull_points(id, hull);
       const bool polygon = scene_->kind() == PrimitiveKind::triangles;
-      if (!reaches_cell(std::vector<Vec3>(hull.begin(), hull.begin() + k), polygon, path)) {
+      if (!reaches_cell(std::vector<Vec3>(hull.begin(), hull.begin() + k), polygon, path, 2.0 * data_.tolerance)) {
         report(where + ": primitive " + std::to_string(id) + " lies outside its cell");
       }
     }

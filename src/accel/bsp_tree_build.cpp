@@ -22,24 +22,22 @@ struct Ref {
   std::vector<Vec3> points;
 };
 
-/// The projection of a reference on a plane normal, [lo, hi], and a tolerance of 2^-21 of the magnitudes involved:
-/// a reference within that distance of a plane counts on both sides, so rounding never drops it from a cell.
+/// The projection of a reference on a plane normal, [lo, hi], and the classification tolerance: a reference
+/// within `tolerance` of a plane counts on both sides, so rounding never drops it from a cell.
 struct Extent {
   double lo, hi, tolerance;
   bool reaches_below(double d) const { return lo - tolerance <= d; }
   bool reaches_above(double d) const { return hi + tolerance >= d; }
 };
 
-Extent project(const Ref& r, const Vec3& n, double d) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = std::fabs(d);
+Extent project(const Ref& r, const Vec3& n, double tolerance) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const Vec3& p : r.points) {
-    const double x = double(n.x) * p.x, y = double(n.y) * p.y, z = double(n.z) * p.z;
-    const double s = x + y + z;
+    const double s = double(n.x) * p.x + double(n.y) * p.y + double(n.z) * p.z;
     lo = std::min(lo, s);
     hi = std::max(hi, s);
-    scale = std::max(scale, std::fabs(x) + std::fabs(y) + std::fabs(z));
   }
-  return {lo, hi, 0x1p-21 * scale};
+  return {lo, hi, tolerance};
 }
 
 struct Plane {
@@ -54,8 +52,8 @@ struct Candidate {
 
 class BspBuilder {
  public:
-  BspBuilder(const Scene& scene, const BspTreeOptions& options, int max_depth)
-      : scene_(scene), options_(options), max_depth_(max_depth) {}
+  BspBuilder(const Scene& scene, const BspTreeOptions& options, int max_depth, double tolerance)
+      : scene_(scene), options_(options), max_depth_(max_depth), tolerance_(tolerance) {}
 
   void build(BspTreeData& out, std::vector<Ref> refs, const Polytope& cell, double root_area, int depth) {
     if (out.nodes.size() > BspNode::kMaxField) throw Error("bsp: more nodes than the 31-bit child index holds");
@@ -78,7 +76,7 @@ class BspBuilder {
     const Plane& h = best.plane;
     std::vector<Ref> below, above;
     for (Ref& r : refs) {
-      const Extent e = project(r, h.normal, h.offset);
+      const Extent e = project(r, h.normal, tolerance_);
       const bool is_below = e.reaches_below(h.offset), is_above = e.reaches_above(h.offset);
       if (is_below && is_above && is_triangle()) {
         below.push_back(clipped(r, h, true));
@@ -105,8 +103,8 @@ class BspBuilder {
 
   /// The part of a straddling triangle on one side, clipped against the plane moved outward by the
   /// classification tolerance; the whole polygon if clipping leaves nothing (it touched only within tolerance).
-  static Ref clipped(const Ref& r, const Plane& h, bool keep_below) {
-    const double tolerance = project(r, h.normal, h.offset).tolerance;
+  Ref clipped(const Ref& r, const Plane& h, bool keep_below) const {
+    const double tolerance = tolerance_;
     Ref out{r.prim, std::vector<Vec3>(r.points.size() + 1)};
     const int k = keep_below ? clip_polygon_to_halfspace(r.points.data(), int(r.points.size()), h.normal,
                                                          double(h.offset) + tolerance, out.points.data())
@@ -136,7 +134,7 @@ class BspBuilder {
     los_.clear();
     his_.clear();
     for (const Ref& r : refs) {
-      const Extent e = project(r, dir, 0.0);
+      const Extent e = project(r, dir, tolerance_);
       los_.push_back(e.lo - e.tolerance);
       his_.push_back(e.hi + e.tolerance);
     }
@@ -144,9 +142,8 @@ class BspBuilder {
     if (n <= std::size_t(options_.exact_threshold)) {
       // Just outside each reference's tolerance band, so the plane leaves that reference on one side.
       for (std::size_t i = 0; i < n; ++i) {
-        const double band = his_[i] - los_[i];
-        positions_.push_back(static_cast<float>(los_[i] - 0x1p-22 * std::fabs(los_[i]) - 0x1p-40 * band));
-        positions_.push_back(static_cast<float>(his_[i] + 0x1p-22 * std::fabs(his_[i]) + 0x1p-40 * band));
+        positions_.push_back(static_cast<float>(los_[i] - tolerance_));
+        positions_.push_back(static_cast<float>(his_[i] + tolerance_));
       }
     } else {
       double lo = 0.0, hi = 0.0;
@@ -191,7 +188,7 @@ class BspBuilder {
       if (!own_plane(refs[s * n / samples].prim, h)) continue;
       std::size_t n_below = 0, n_above = 0;
       for (const Ref& r : refs) {
-        const Extent e = project(r, h.normal, h.offset);
+        const Extent e = project(r, h.normal, tolerance_);
         n_below += e.reaches_below(h.offset) ? 1 : 0;
         n_above += e.reaches_above(h.offset) ? 1 : 0;
       }
@@ -203,6 +200,7 @@ class BspBuilder {
   const Scene& scene_;
   const BspTreeOptions& options_;
   int max_depth_;
+  double tolerance_;
   std::vector<double> los_, his_;
   std::vector<float> positions_;
 };
@@ -233,7 +231,14 @@ BspTreeData build_bsp_tree(const Scene& scene, const BspTreeOptions& options) {
     refs.push_back(std::move(ref));
   }
   const Polytope root = Polytope::from_box(out.bounds);
-  BspBuilder builder(scene, options, out.max_depth);
+  // One absolute tolerance for the whole tree, 2^-21 of the largest coordinate magnitude: far above the rounding
+  // of any projection or clipped vertex, and the same at every node (a tolerance relative to each clipped polygon
+  // would shrink with it, and validate() could not reproduce the builder's decisions).
+  for (int a = 0; a < 3; ++a) {
+    out.tolerance = std::max(out.tolerance, 0x1p-21 * std::max(std::fabs(double(out.bounds.lo[a])),
+                                                                std::fabs(double(out.bounds.hi[a]))));
+  }
+  BspBuilder builder(scene, options, out.max_depth, out.tolerance);
   builder.build(out, std::move(refs), root, root.surface_area(), 0);
   return out;
 }

@@ -103,6 +103,7 @@ struct BspTreeData {
   AABB bounds;                              ///< the root cell (the scene box)
   double sah_cost = 0.0;                    ///< SAH cost of the built tree, relative to the root's area
   int max_depth = 0;                        ///< the depth limit the build used
+  double tolerance = 0.0;  ///< a reference within this distance of a plane went to both sides
 };
 
 /// Builds over the scene's valid primitives. Triangles are clipped to each cell (a triangle goes to every side
