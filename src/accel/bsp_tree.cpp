@@ -149,9 +149,8 @@ namespace {
 BspTreeOptions parse_options(const Options& o) {
   BspTreeOptions b;
   const long long depth = o.get_int("max_depth");
-  if (depth < 0 || depth > kMaxSegmentDepth - 4) {
-    throw Error("bsp: max_depth=" + o.get("max_depth") + " is outside [0, " + std::to_string(kMaxSegmentDepth - 4) +
-                "]");
+  if (depth < 0 || depth > kMaxSplitTreeDepth) {
+    throw Error("bsp: max_depth=" + o.get("max_depth") + " is outside [0, " + std::to_string(kMaxSplitTreeDepth) + "]");
   }
   b.max_depth = static_cast<int>(depth);
   const long long leaf = o.get_int("leaf_size");

@@ -212,8 +212,7 @@ BspTreeData build_bsp_tree(const Scene& scene, const BspTreeOptions& options) {
   const std::vector<PrimRef> prim_refs = scene.build_references();
   for (const PrimRef& r : prim_refs) out.bounds.extend(r.bounds);
   const std::size_t n = prim_refs.size();
-  const double automatic = std::round(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1))));
-  out.max_depth = std::min(options.max_depth > 0 ? options.max_depth : static_cast<int>(automatic), kMaxSegmentDepth - 4);
+  out.max_depth = split_tree_depth_limit(options.max_depth, n);
   if (n == 0) return out;
   std::vector<Ref> refs;
   refs.reserve(n);

@@ -14,9 +14,7 @@
 namespace rayaccel {
 
 int kd_tree_max_depth(const KdTreeOptions& options, std::size_t n) {
-  if (options.max_depth > 0) return std::min(options.max_depth, kKdMaxDepth);
-  const double automatic = std::round(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1))));
-  return std::min(static_cast<int>(automatic), kKdMaxDepth);
+  return split_tree_depth_limit(options.max_depth, n);
 }
 
 namespace {

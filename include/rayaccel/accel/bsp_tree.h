@@ -18,7 +18,7 @@
 namespace rayaccel {
 
 struct BspTreeOptions {
-  /// Deepest allowed leaf; 0 picks round(8 + 1.3 log2 n), as the kd-tree. At most kMaxSegmentDepth - 4.
+  /// Deepest allowed leaf; 0 picks round(8 + 1.3 log2 n), as the kd-tree. At most kMaxSplitTreeDepth.
   int max_depth = 0;
   /// A node with at most this many references becomes a leaf without trying splits.
   int leaf_size = 1;
