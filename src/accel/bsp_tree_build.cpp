@@ -104,12 +104,11 @@ class BspBuilder {
   /// The part of a straddling triangle on one side, clipped against the plane moved outward by the
   /// classification tolerance; the whole polygon if clipping leaves nothing (it touched only within tolerance).
   Ref clipped(const Ref& r, const Plane& h, bool keep_below) const {
-    const double tolerance = tolerance_;
     Ref out{r.prim, std::vector<Vec3>(r.points.size() + 1)};
     const int k = keep_below ? clip_polygon_to_halfspace(r.points.data(), int(r.points.size()), h.normal,
-                                                         double(h.offset) + tolerance, out.points.data())
+                                                         double(h.offset) + tolerance_, out.points.data())
                              : clip_polygon_to_halfspace(r.points.data(), int(r.points.size()), -h.normal,
-                                                         -(double(h.offset) - tolerance), out.points.data());
+                                                         -(double(h.offset) - tolerance_), out.points.data());
     if (k == 0) return r;
     out.points.resize(std::size_t(k));
     return out;
