@@ -5,6 +5,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/two_level_grid.h"
 #include "rayaccel/accel/uniform_grid.h"
+#include "rayaccel/wide/wide_bvh.h"
 #include "rayaccel/bvh/bvh_registry.h"
 
 namespace rayaccel {
@@ -16,6 +17,7 @@ void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_kd_tree(registry);
   register_bsp_tree(registry);
   register_bvh(registry);
+  wide::register_wide_bvh(registry);
 }
 
 }  // namespace rayaccel
