@@ -86,7 +86,7 @@ class Octree final : public AcceleratorImpl<Octree> {
     Entry stack[3 * kMaxDepth + 4];
     int top = 0;
     stack[top++] = {root_box_, 0, t0, t1};
-    RayMailbox mailbox;
+    RayMailbox<true> mailbox;
     while (top > 0) {
       const Entry e = stack[--top];
       stats.visit_node();
