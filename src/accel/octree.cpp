@@ -93,7 +93,7 @@ void Octree::build(const Scene& scene) {
 }
 
 void Octree::split(std::uint32_t node, const AABB& box, int depth) {
-  if (depth >= options_.max_depth) return;
+  if (!may_split(box, depth)) return;
   const std::uint32_t list = nodes_[node].list;
   const std::size_t count = lists_[list].size();
   if (count <= std::size_t(options_.max_prims)) return;
@@ -275,7 +275,7 @@ void Octree::validate_node(std::uint32_t node, const AABB& box, int depth, std::
       problems.push_back(where + "primitive " + std::to_string(id) + " does not overlap the leaf");
     }
   }
-  if (list.size() > std::size_t(options_.max_prims) && depth < options_.max_depth) {
+  if (list.size() > std::size_t(options_.max_prims) && may_split(box, depth)) {
     // Allowed only when no child would hold fewer primitives.
     bool progress = false;
     for (int c = 0; c < 8 && !progress; ++c) {

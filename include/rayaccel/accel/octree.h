@@ -138,6 +138,10 @@ class Octree final : public AcceleratorImpl<Octree> {
   }
 
  private:
+  /// A cell may split above max_depth only while its children stay above min_cell_size (see grid_dda.h).
+  bool may_split(const AABB& box, int depth) const {
+    return depth < options_.max_depth && max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);
+  }
   void split(std::uint32_t node, const AABB& box, int depth);
   void insert_into(std::uint32_t node, const AABB& box, int depth, std::uint32_t id);
   void remove_from(std::uint32_t node, const AABB& box, std::uint32_t id);
