@@ -128,7 +128,7 @@ TYPED_TEST(BvVolume, RayThatHitsATriangleOfThePointsHitsTheVolume) {
       // the triangle test's t is inaccurate on slivers.
       if (std::is_same_v<TypeParam, AabbVolume> || is_sliver(a, b, c)) continue;
       ++strict;
-      EXPECT_LE(entry, hit.t) << cloud.name << " ray " << i;
+      EXPECT_LE(entry, hit.t) << cloud.name << " ray " << i << std::hexfloat << " " << entry << " " << hit.t << " o=" << r.origin.x << "," << r.origin.y << "," << r.origin.z << " d=" << r.direction.x << "," << r.direction.y << "," << r.direction.z;
       ASSERT_TRUE(v.intersect(ctx, ray.t_min, hit.t, &entry)) << cloud.name << " ray " << i << " t=" << hit.t;
     }
   }

@@ -9,6 +9,7 @@
 
 #include "rayaccel/bv/bounding_volume.h"
 #include "rayaccel/geometry/ray_sphere.h"
+#include "rayaccel/geometry/slab_interval.h"
 
 namespace rayaccel {
 
@@ -27,15 +28,15 @@ struct SphereVolume {
   /// Encloses every point with a margin of a few float ulps of the largest coordinate; empty span -> empty sphere.
   static SphereVolume fit(std::span<const Vec3> points);
 
-  /// Conservative: the fit margin dwarfs the double-precision error of the interval, so a ray that touches the
-  /// fitted points' hull in [t_min, t_max] is never rejected. Void rays and the empty sphere never hit.
+  /// Conservative: the radius grows by kRayOriginSlack of the origin's distance, which dwarfs the double-precision
+  /// error of the interval, and the interval is widened like the slab tests', so a ray that touches the fitted
+  /// points' hull in [t_min, t_max] is never rejected. Void rays and the empty sphere never hit.
   bool intersect(const RayContext& c, float t_min, float t_max, float* t_entry) const {
+    const Vec3 f = c.ray->origin - center;
+    const float slack = kRayOriginSlack * (std::fabs(f.x) + std::fabs(f.y) + std::fabs(f.z));
     double t0, t1;
-    if (!(radius >= 0.0f) || !ray_sphere_interval(*c.ray, center, radius, t0, t1)) return false;
-    const double t_near = t0 > t_min ? t0 : double(t_min);
-    const double t_far = t1 < t_max ? t1 : double(t_max);
-    if (t_entry) *t_entry = static_cast<float>(t_near);
-    return t_near <= t_far;
+    if (!(radius >= 0.0f) || !ray_sphere_interval(*c.ray, center, radius + slack, t0, t1)) return false;
+    return clip_to_widened_slabs(static_cast<float>(t0), static_cast<float>(t1), t_min, t_max, t_entry);
   }
   float surface_area() const { return radius >= 0.0f ? 4.0f * std::numbers::pi_v<float> * radius * radius : 0.0f; }
   float volume() const {

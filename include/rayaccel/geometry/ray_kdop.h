@@ -36,9 +36,10 @@ inline double kdop_project(const Vec3& direction, const Vec3& p) {
   return double(direction.x) * p.x + double(direction.y) * p.y + double(direction.z) * p.z;
 }
 
-/// A ray projected on the k/2 slab directions, made once per ray. The projected origin is rounded toward the slab
-/// interior on each side (origin_lo up, origin_hi down) and the reciprocal direction is correctly rounded, so each
-/// slab distance carries at most three roundings, as in the AABB test.
+/// A ray projected on the k/2 slab directions, made once per ray. The projected origin is moved toward the slab
+/// interior on each side (origin_lo up, origin_hi down) by kRayOriginSlack of |origin|_1 and rounded in the same
+/// direction, and the reciprocal direction is correctly rounded, so each slab distance carries at most three
+/// roundings, as in the AABB test.
 template <int K>
 struct KdopRay {
   static constexpr int kSlabs = K / 2;
@@ -49,11 +50,13 @@ struct KdopRay {
 
   explicit KdopRay(const PreparedRay& r) {
     constexpr auto dirs = kdop_directions<K>();
+    const double slack =
+        kRayOriginSlack * (double(std::fabs(r.origin.x)) + std::fabs(r.origin.y) + std::fabs(r.origin.z));
     for (int j = 0; j < kSlabs; ++j) {
       const double o = kdop_project(dirs[j], r.origin);
       const double d = kdop_project(dirs[j], r.direction);
-      origin_lo[j] = round_up_to_float(o);
-      origin_hi[j] = round_down_to_float(o);
+      origin_lo[j] = round_up_to_float(o + slack);
+      origin_hi[j] = round_down_to_float(o - slack);
       // For one axis d equals a float component and keeps its sign of zero; a diagonal sum of zero is +0.
       inv_direction[j] = static_cast<float>(1.0 / d);
       negative[j] = std::signbit(inv_direction[j]);

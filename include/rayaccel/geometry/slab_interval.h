@@ -6,6 +6,11 @@
 
 namespace rayaccel {
 
+/// Positional slack of the oriented volumes' ray tests, relative to the ray origin's distance from the volume: 4
+/// float ulps. The watertight triangle test rounds (shears) its vertices relative to the ray origin by about this
+/// much, so it can report a hit a few ulps of |v - o| outside the exact triangle; the slack keeps such hits inside.
+inline constexpr float kRayOriginSlack = 0x1p-22f;
+
 /// Clips [t_min, t_max] to the slab interval [enter, leave] after widening both ends by 2*gamma(3) (the entry
 /// toward -inf, the exit toward +inf), so rounding in the slab distances never rejects a touching ray and the entry
 /// never lies beyond a hit on the fitted geometry. Shared by the k-DOP and OBB tests.
