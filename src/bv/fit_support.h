@@ -1,26 +1,11 @@
-// Private helpers shared by the bounding-volume fitters: the rounding margin every fitted volume carries.
+// Private helpers shared by the bounding-volume fitters: a double-precision vector for fitting arithmetic.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
-#include <span>
 
 #include "rayaccel/core/vec3.h"
 
 namespace rayaccel::bv_detail {
-
-/// Relative fit margin: 4 float ulps of the largest coordinate magnitude. It absorbs the rounding of the ray tests'
-/// projections and of the float triangle test that reports hits on the fitted points.
-inline constexpr double kFitMargin = 0x1p-22;
-
-/// The absolute per-coordinate margin for a point set: kFitMargin times its largest |coordinate| (at least the
-/// smallest normal float, so a set at the origin still gets a positive margin).
-inline double fit_margin(std::span<const Vec3> points) {
-  float scale = 0.0f;
-  for (const Vec3& p : points) scale = std::max(scale, max_component(abs(p)));
-  return std::max(kFitMargin * scale, double(std::numeric_limits<float>::min()));
-}
 
 /// A double-precision point, for fitting arithmetic.
 struct Vec3d {

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "fit_support.h"
 #include "rayaccel/geometry/float_rounding.h"
@@ -15,6 +16,19 @@ namespace rayaccel {
 namespace {
 
 using bv_detail::Vec3d;
+
+/// Relative fit margin: 4 float ulps of the largest coordinate magnitude. The k-DOP ray test's slack covers the ray
+/// origin's magnitude; this margin covers the fitted points' own, so together they bound the triangle test's
+/// rounding (a few ulps of |v - o|) for hits on the fitted points.
+constexpr double kFitMargin = 0x1p-22;
+
+/// The absolute per-coordinate margin for a point set: kFitMargin times its largest |coordinate| (at least the
+/// smallest normal float, so a set at the origin still gets a positive margin).
+double fit_margin(std::span<const Vec3> points) {
+  float scale = 0.0f;
+  for (const Vec3& p : points) scale = std::max(scale, max_component(abs(p)));
+  return std::max(kFitMargin * scale, double(std::numeric_limits<float>::min()));
+}
 
 /// The half-space dot(normal, p) <= offset.
 struct HalfSpace {
@@ -119,7 +133,7 @@ KdopVolume<K> KdopVolume<K>::fit(std::span<const Vec3> points) {
       mx[j] = std::max(mx[j], s);
     }
   }
-  const double margin = bv_detail::fit_margin(points);
+  const double margin = fit_margin(points);
   for (int j = 0; j < kSlabs; ++j) {
     const double m = margin * (std::fabs(dirs[j].x) + std::fabs(dirs[j].y) + std::fabs(dirs[j].z));
     v.lo[j] = round_down_to_float(mn[j] - m);

@@ -213,12 +213,11 @@ ObbVolume box_in_frame(std::span<const Vec3> points, const Frame& frame) {
   for (int a = 0; a < 3; ++a) center = center + axis_d[a] * (0.5 * (lo[a] + hi[a]));
   v.box.center = bv_detail::to_float(center);
   const Vec3d c(v.box.center);
-  const double margin = 2.0 * bv_detail::fit_margin(points);
   double reach = 0.0;
   for (int a = 0; a < 3; ++a) {
     v.box.axis[a] = axis[a];
     const double s = bv_detail::dot(axis_d[a], c);
-    v.box.half[a] = round_up_to_float(std::max(hi[a] - s, s - lo[a]) + margin);
+    v.box.half[a] = round_up_to_float(std::max(hi[a] - s, s - lo[a]));
     reach += v.box.half[a];
   }
   v.box.reach = round_up_to_float(reach);

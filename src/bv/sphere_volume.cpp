@@ -163,7 +163,7 @@ SphereVolume SphereVolume::fit(std::span<const Vec3> points) {
   const Vec3d c(v.center);
   double radius2 = 0.0;
   for (const Vec3& p : points) radius2 = std::max(radius2, bv_detail::length_squared(Vec3d(p) - c));
-  v.radius = round_up_to_float(std::sqrt(radius2) + 2.0 * bv_detail::fit_margin(points));
+  v.radius = round_up_to_float(std::sqrt(radius2));
   return v;
 }
 

@@ -109,6 +109,10 @@ TYPED_TEST(BvVolume, RayThatHitsATriangleOfThePointsHitsTheVolume) {
         r.direction[axis] = sign;
         r.origin = target;
         r.origin[axis] = target[axis] - sign * 2.0f * pad[axis];
+      } else if (i % 11 == 5) {
+        // From near the world origin, however far the points are.
+        r.origin = test::random_in_box(rng, {-1, -1, -1}, {1, 1, 1});
+        r.direction = target - r.origin;
       } else {
         r.origin = test::random_in_box(rng, box.lo - pad * 2.0f, box.hi + pad * 2.0f);
         r.direction = target - r.origin;

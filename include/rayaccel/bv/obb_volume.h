@@ -19,7 +19,8 @@ struct ObbVolume {
   Obb box{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {}, {-1, -1, -1}, 0.0f};  ///< empty until fitted
 
   static RayContext prepare(const PreparedRay& ray) { return {&ray}; }
-  /// Encloses every point with a margin of a few float ulps of the largest coordinate; empty span -> empty box.
+  /// Encloses every point exactly (extents computed in double for the stored float axes and center, rounded up);
+  /// the ray test's slack, not a fit margin, absorbs rounding. Empty span -> empty box.
   static ObbVolume fit(std::span<const Vec3> points);
   /// The box with the given (orthonormal) axes enclosing the points, for callers with their own frame; the axes are
   /// re-orthonormalized in double first.

@@ -25,7 +25,8 @@ struct SphereVolume {
   float radius = -1.0f;  ///< negative: the empty sphere
 
   static RayContext prepare(const PreparedRay& ray) { return {&ray}; }
-  /// Encloses every point with a margin of a few float ulps of the largest coordinate; empty span -> empty sphere.
+  /// Encloses every point exactly (radius measured in double from the stored float center, rounded up); the ray
+  /// test's slack, not a fit margin, absorbs rounding. Empty span -> empty sphere.
   static SphereVolume fit(std::span<const Vec3> points);
 
   /// Conservative: the radius grows by kRayOriginSlack of the origin's distance, which dwarfs the double-precision
