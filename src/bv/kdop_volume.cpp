@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <tuple>
 
 #include "fit_support.h"
 #include "rayaccel/geometry/float_rounding.h"
@@ -42,18 +43,26 @@ struct Polygon {
   int count = 0;
 };
 
-void clip(const Polygon& in, const HalfSpace& h, double tolerance, Polygon& out) {
+/// Clips in by the half-space into out; returns false (out untouched) when nothing is cut off.
+bool clip(const Polygon& in, const HalfSpace& h, double tolerance, Polygon& out) {
+  std::array<double, std::tuple_size_v<decltype(Polygon::v)>> dist;
+  bool cuts = false;
+  for (int i = 0; i < in.count; ++i) {
+    dist[i] = bv_detail::dot(h.normal, in.v[i]) - h.offset - tolerance;
+    cuts |= dist[i] > 0.0;
+  }
+  if (!cuts) return false;
   out.count = 0;
   for (int i = 0; i < in.count; ++i) {
+    const int j = i + 1 == in.count ? 0 : i + 1;
     const Vec3d& a = in.v[i];
-    const Vec3d& b = in.v[(i + 1) % in.count];
-    const double da = bv_detail::dot(h.normal, a) - h.offset - tolerance;
-    const double db = bv_detail::dot(h.normal, b) - h.offset - tolerance;
+    const double da = dist[i], db = dist[j];
     // A convex polygon gains at most one vertex per clip; the capacity check only guards against rounding.
     if (da <= 0.0 && out.count < int(out.v.size())) out.v[out.count++] = a;
     if (((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) && out.count < int(out.v.size()))
-      out.v[out.count++] = a + (b - a) * (da / (da - db));
+      out.v[out.count++] = a + (in.v[j] - a) * (da / (da - db));
   }
+  return true;
 }
 
 double polygon_area(const Polygon& p) {
@@ -82,6 +91,8 @@ Measure measure(const KdopVolume<K>& kdop) {
   const double diagonal = bv_detail::length(hi - lo);
   const double scale = diagonal + std::max(bv_detail::length(lo), bv_detail::length(hi));
   const double half_size = 2.0 * diagonal + 1e-30;
+  std::array<double, n> tolerance;
+  for (int g = 0; g < n; ++g) tolerance[g] = 1e-12 * scale * bv_detail::length(planes[g].normal);
   Measure m;
   for (int f = 0; f < n; ++f) {
     const double norm = bv_detail::length(planes[f].normal);
@@ -92,18 +103,19 @@ Measure measure(const KdopVolume<K>& kdop) {
     const Vec3d helper = std::fabs(unit.x) < 0.5 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
     const Vec3d t1 = bv_detail::normalize(bv_detail::cross(unit, helper));
     const Vec3d t2 = bv_detail::cross(unit, t1);
-    Polygon a, b;
-    a.count = 4;
-    a.v[0] = foot + (t1 + t2) * half_size;
-    a.v[1] = foot + (t2 - t1) * half_size;
-    a.v[2] = foot - (t1 + t2) * half_size;
-    a.v[3] = foot + (t1 - t2) * half_size;
-    for (int g = 0; g < n && a.count > 0; ++g) {
+    Polygon buffers[2];
+    Polygon* a = &buffers[0];
+    Polygon* b = &buffers[1];
+    a->count = 4;
+    a->v[0] = foot + (t1 + t2) * half_size;
+    a->v[1] = foot + (t2 - t1) * half_size;
+    a->v[2] = foot - (t1 + t2) * half_size;
+    a->v[3] = foot + (t1 - t2) * half_size;
+    for (int g = 0; g < n && a->count > 0; ++g) {
       if (g == f) continue;
-      clip(a, planes[g], 1e-12 * scale * bv_detail::length(planes[g].normal), b);
-      std::swap(a, b);
+      if (clip(*a, planes[g], tolerance[g], *b)) std::swap(a, b);
     }
-    const double area = a.count >= 3 ? polygon_area(a) : 0.0;
+    const double area = a->count >= 3 ? polygon_area(*a) : 0.0;
     m.area += area;
     m.volume += area * height / 3.0;
   }
