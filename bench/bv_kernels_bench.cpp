@@ -1,5 +1,6 @@
 // Micro-benchmarks of the bounding volumes' ray tests (per ray-volume pair, the per-ray context made once per ray as
-// traversal does), of the watertight triangle test for scale, of the k-DOP per-ray setup, and of fitting.
+// traversal does), of the watertight triangle test for scale, of the k-DOP per-ray setup and of fitting; plus the
+// volumes' tightness on typical point sets, reported as counters.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -9,6 +10,7 @@
 #include "rayaccel/bv/kdop_volume.h"
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
+#include "rayaccel/bv/tightness.h"
 #include "rayaccel/geometry/ray_triangle.h"
 
 namespace rayaccel {
@@ -131,6 +133,48 @@ void BM_KdopArea(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(v.surface_area());
 }
 BENCHMARK(BM_KdopArea)->Name("surface_area/kdop26");
+
+/// Point sets of a given shape: 0 random in a cube, 1 a 30-degree cap of a sphere surface (a typical mesh node),
+/// 2 a thin rotated sliver, 3 a whole sphere surface (a root node).
+std::vector<std::vector<Vec3>> shape_sets(int shape) {
+  std::mt19937 rng(4);
+  std::normal_distribution<float> g;
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<std::vector<Vec3>> sets;
+  for (int n = 0; n < 16; ++n) {
+    const Vec3 axis = normalize(Vec3{g(rng), g(rng), g(rng)});
+    std::vector<Vec3> pts;
+    while (pts.size() < 60) {
+      const Vec3 s = normalize(Vec3{g(rng), g(rng), g(rng)});
+      if (shape == 0) pts.push_back({u(rng), u(rng), u(rng)});
+      if (shape == 1 && dot(s, axis) > 0.866f) pts.push_back(s);
+      if (shape == 2) pts.push_back(axis * (4.0f * u(rng)) + s * 0.05f);
+      if (shape == 3) pts.push_back(s);
+    }
+    sets.push_back(std::move(pts));
+  }
+  return sets;
+}
+
+/// Tightness figures (not timings): mean area over mean AABB area and over mean convex hull area.
+template <class BV>
+void BM_Tightness(benchmark::State& state) {
+  TightnessSums sums;
+  for (auto _ : state) {
+    sums = {};
+    for (const auto& pts : shape_sets(int(state.range(0)))) sums.add(BV::fit(pts).surface_area(), pts);
+  }
+  state.counters["area_over_aabb"] = sums.over_aabb();
+  state.counters["area_over_hull"] = sums.over_hull();
+}
+#define RAYACCEL_TIGHTNESS(BV, name) \
+  BENCHMARK(BM_Tightness<BV>)->Name("tightness/" name)->DenseRange(0, 3)->Iterations(1)
+RAYACCEL_TIGHTNESS(AabbVolume, "aabb");
+RAYACCEL_TIGHTNESS(SphereVolume, "sphere");
+RAYACCEL_TIGHTNESS(ObbVolume, "obb");
+RAYACCEL_TIGHTNESS(Kdop14Volume, "kdop14");
+RAYACCEL_TIGHTNESS(Kdop18Volume, "kdop18");
+RAYACCEL_TIGHTNESS(Kdop26Volume, "kdop26");
 
 }  // namespace
 }  // namespace rayaccel
