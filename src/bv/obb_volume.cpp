@@ -11,7 +11,6 @@
 
 #include "fit_support.h"
 #include "rayaccel/geometry/float_rounding.h"
-#include "rayaccel/geometry/ray_kdop.h"
 
 namespace rayaccel {
 namespace {
@@ -61,17 +60,17 @@ double frame_area(std::span<const Point> points, const Frame& f) {
   return 2.0 * (ex * ey + ey * ez + ez * ex);
 }
 
-/// Eigenvectors of the symmetric matrix m (columns of the returned rows' transpose: axis[i] is the i-th
-/// eigenvector), by cyclic Jacobi rotations until the off-diagonal part is negligible.
+/// Eigenvectors of the symmetric matrix m by cyclic Jacobi rotations: axis[i] is the eigenvector of the eigenvalue
+/// left in m[i][i] (m is diagonalized in place).
 Frame jacobi_eigenvectors(double m[3][3]) {
   double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (int sweep = 0; sweep < 32; ++sweep) {
     const double off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
     const double diag = m[0][0] * m[0][0] + m[1][1] * m[1][1] + m[2][2] * m[2][2];
-    if (off <= 1e-30 * diag || off == 0.0) break;
+    if (off <= 1e-24 * diag) break;  // off-diagonal below 1e-12 of the diagonal: converged for fitting
     for (int p = 0; p < 2; ++p) {
       for (int q = p + 1; q < 3; ++q) {
-        if (m[p][q] == 0.0) continue;
+        if (std::fabs(m[p][q]) <= 1e-15 * (std::fabs(m[p][p]) + std::fabs(m[q][q]))) continue;
         // The rotation angle that zeroes m[p][q], in the stable form t = sign(theta) / (|theta| + sqrt(theta^2+1)).
         const double theta = (m[q][q] - m[p][p]) / (2.0 * m[p][q]);
         const double t = std::copysign(1.0, theta) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
@@ -99,7 +98,7 @@ Frame jacobi_eigenvectors(double m[3][3]) {
   return f;
 }
 
-/// PCA frame: eigenvectors of the points' covariance, largest variance first. Null when the points are all equal.
+/// PCA frame: eigenvectors of the points' covariance, largest variance first. False when the points are all equal.
 bool pca_frame(std::span<const Vec3> points, Frame& frame) {
   Vec3d mean;
   for (const Vec3& p : points) mean = mean + Vec3d(p);
@@ -121,32 +120,17 @@ bool pca_frame(std::span<const Vec3> points, Frame& frame) {
 /// DiTO-26: candidate frames from the extremal points on the 13 k-DOP-26 directions; returns the frame whose box
 /// of those extremal points has the smallest area. False when all points coincide.
 bool dito_frame(std::span<const Vec3> points, Frame& best) {
-  constexpr auto dirs = kdop_directions<26>();
-  std::array<std::size_t, 13> arg_lo{}, arg_hi{};
-  std::array<double, 13> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    for (int j = 0; j < 13; ++j) {
-      const double s = kdop_project(dirs[j], points[i]);
-      if (s < lo[j]) { lo[j] = s; arg_lo[j] = i; }
-      if (s > hi[j]) { hi[j] = s; arg_hi[j] = i; }
-    }
-  }
-  std::vector<Vec3d> ext;
-  for (int j = 0; j < 13; ++j) {
-    ext.emplace_back(points[arg_lo[j]]);
-    ext.emplace_back(points[arg_hi[j]]);
-  }
+  const std::array<std::size_t, 26> arg = bv_detail::extremal_points_26(points);
+  const std::vector<Vec3d> ext = bv_detail::distinct_points(points, arg);
   // Base triangle: the farthest extremal pair, then the extremal point farthest from their line.
   int pair = 0;
   double pair_d2 = -1.0;
   for (int j = 0; j < 13; ++j) {
-    const double d2 = bv_detail::length_squared(ext[2 * j + 1] - ext[2 * j]);
+    const double d2 = bv_detail::length_squared(Vec3d(points[arg[2 * j + 1]]) - Vec3d(points[arg[2 * j]]));
     if (d2 > pair_d2) { pair_d2 = d2; pair = j; }
   }
   if (pair_d2 <= 0.0) return false;
-  const Vec3d p0 = ext[2 * pair], p1 = ext[2 * pair + 1];
+  const Vec3d p0(points[arg[2 * pair]]), p1(points[arg[2 * pair + 1]]);
   const Vec3d e0 = bv_detail::normalize(p1 - p0);
   Vec3d p2 = p0;
   double line_d2 = 0.0;

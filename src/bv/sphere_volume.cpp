@@ -4,12 +4,10 @@
 #include "rayaccel/bv/sphere_volume.h"
 
 #include <algorithm>
-#include <array>
 #include <vector>
 
 #include "fit_support.h"
 #include "rayaccel/geometry/float_rounding.h"
-#include "rayaccel/geometry/ray_kdop.h"
 
 namespace rayaccel {
 namespace {
@@ -112,23 +110,7 @@ Ball exact_ball(std::vector<Vec3d> points) {
 
 /// EPOS-26: the exact ball of the extremal points on the 13 k-DOP-26 directions, then Ritter's growth pass.
 Ball epos26_ball(std::span<const Vec3> points) {
-  constexpr auto dirs = kdop_directions<26>();
-  std::array<std::size_t, 13> arg_lo{}, arg_hi{};
-  std::array<double, 13> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    for (int j = 0; j < 13; ++j) {
-      const double s = kdop_project(dirs[j], points[i]);
-      if (s < lo[j]) { lo[j] = s; arg_lo[j] = i; }
-      if (s > hi[j]) { hi[j] = s; arg_hi[j] = i; }
-    }
-  }
-  std::vector<Vec3d> extremal;
-  for (int j = 0; j < 13; ++j) {
-    extremal.emplace_back(points[arg_lo[j]]);
-    extremal.emplace_back(points[arg_hi[j]]);
-  }
+  std::vector<Vec3d> extremal = bv_detail::distinct_points(points, bv_detail::extremal_points_26(points));
   Ball ball = exact_ball(std::move(extremal));
   double radius = std::sqrt(ball.radius2);
   for (const Vec3& pf : points) {
