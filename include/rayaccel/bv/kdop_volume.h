@@ -50,9 +50,8 @@ struct KdopVolume {
 using Kdop14Volume = KdopVolume<14>;
 using Kdop18Volume = KdopVolume<18>;
 using Kdop26Volume = KdopVolume<26>;
-extern template struct KdopVolume<14>;
-extern template struct KdopVolume<18>;
-extern template struct KdopVolume<26>;
+// fit, surface_area, volume, bounds, contains and the constructor are defined in src/bv/kdop_volume.cpp and
+// instantiated there for k = 14, 18, 26; no extern-template declaration, so intersect stays inlinable everywhere.
 static_assert(BoundingVolume<Kdop14Volume>);
 static_assert(BoundingVolume<Kdop18Volume>);
 static_assert(BoundingVolume<Kdop26Volume>);
