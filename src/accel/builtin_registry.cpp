@@ -1,11 +1,19 @@
 // The list of built-in structures, in the order `rayaccel list` shows them. Each module adds one line here.
 #include "rayaccel/accel/brute_force.h"
+#include "rayaccel/accel/kd_tree.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/accel/two_level_grid.h"
+#include "rayaccel/accel/uniform_grid.h"
+#include "rayaccel/bvh/bvh_registry.h"
 
 namespace rayaccel {
 
 void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_brute_force(registry);
+  register_uniform_grid(registry);
+  register_two_level_grid(registry);
+  register_kd_tree(registry);
+  register_bvh(registry);
 }
 
 }  // namespace rayaccel

@@ -1,5 +1,5 @@
-// Ray/AABB slab test, conservative in floating point (Ize 2013, "Robust BVH Ray Traversal"): the far distance is
-// widened by 2*gamma(3) so rounding never turns a hit into a miss; +-0 direction components and rays lying in a
+// Ray/AABB slab test, conservative in floating point (Ize 2013, "Robust BVH Ray Traversal"): both slab distances
+// are widened by 2*gamma(3) so rounding never turns a hit into a miss; +-0 direction components and rays lying in a
 // face plane are handled without special cases, and void (NaN) rays never hit.
 #pragma once
 
@@ -23,8 +23,11 @@ inline bool clip_ray_to_box(const PreparedRay& r, const AABB& box, float& t_near
   for (int a = 0; a < 3; ++a) {
     const float near_plane = r.negative[a] ? box.hi[a] : box.lo[a];
     const float far_plane = r.negative[a] ? box.lo[a] : box.hi[a];
-    const float t0 = (near_plane - r.origin[a]) * r.inv_direction[a];
+    float t0 = (near_plane - r.origin[a]) * r.inv_direction[a];
     float t1 = (far_plane - r.origin[a]) * r.inv_direction[a];
+    // Widen both ends (near toward -inf, far toward +inf) so a box is never rejected against the current closest
+    // hit because of rounding in its own entry distance.
+    t0 *= t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp;
     t1 *= t1 >= 0.0f ? kSlabWidenUp : kSlabWidenDown;
     // Written as "candidate beats current ? candidate : current" so a NaN candidate leaves the interval alone.
     t_near = t0 > t_near ? t0 : t_near;

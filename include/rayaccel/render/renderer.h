@@ -1,9 +1,9 @@
 // Renders a scene through any accelerator: shading by normals or ambient occlusion, or a heat map of traversal
 // cost per pixel (nodes visited + primitives tested) with a colour scale and legend, written as PNG.
+// Ambient occlusion after Zhukov, Iones, Kronin 1998 (the fraction of short hemisphere rays left unoccluded).
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <functional>
 #include <string_view>
 #include <vector>
@@ -12,20 +12,13 @@
 #include "rayaccel/core/scene.h"
 #include "rayaccel/core/stats.h"
 #include "rayaccel/render/camera.h"
+#include "rayaccel/render/image.h"
 
 namespace rayaccel {
 
 enum class ShadingMode { normals, ambient_occlusion, heatmap };
 /// Parses "normals", "ao" or "heatmap"; throws Error listing them otherwise.
 ShadingMode parse_shading_mode(std::string_view text);
-
-struct Image {
-  int width = 0;
-  int height = 0;
-  std::vector<std::uint8_t> rgb;  ///< width * height * 3, row-major from the top row
-  /// Writes a PNG; throws Error naming the path when it cannot be written.
-  void save_png(const std::filesystem::path& path) const;
-};
 
 struct RenderSettings {
   int width = 512;
@@ -40,11 +33,22 @@ struct RenderSettings {
 
 struct RenderResult {
   Image image;
-  double trace_milliseconds = 0.0;
-  TraversalStats total;   ///< summed over every ray traced
-  std::uint64_t rays = 0;
+  double trace_milliseconds = 0.0;  ///< wall time inside the accelerator's batch calls (statistics on)
+  TraversalStats total;              ///< summed over every ray traced
+  std::uint64_t rays = 0;            ///< primary rays plus ambient-occlusion rays
 };
 
+/// Renders `scene` (which `accel` must have been built over) through accel's batch API, in chunks of rows whose
+/// rays are traced in parallel; the progress callback runs on the calling thread after each chunk.
+/// - normals: |n| per axis as (r, g, b) at hits (n the geometric normal), a dark blue-grey background at misses.
+/// - ambient_occlusion: grey = sRGB-encoded fraction of ao_samples cosine-weighted shadow rays (length
+///   ao_distance_fraction times the scene box diagonal) left unoccluded; the same background.
+/// - heatmap: heat_colour() of each primary ray's cost on a linear scale from the image's cheapest to its
+///   dearest ray, with the legend of heatmap.h in the bottom rows. Hit pixels are darkened by 10 to 40 percent
+///   with the angle between ray and surface, so shapes stay readable where cost is uniform (brute force);
+///   misses and the legend show the plain ramp.
+/// The result is the same for any thread count. Throws Error for a non-positive size, or ao_samples < 1 or a
+/// negative or non-finite ao_distance_fraction in ambient_occlusion mode.
 RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& camera, const RenderSettings& settings);
 
 }  // namespace rayaccel

@@ -1,5 +1,6 @@
 // The ray kinds benchmarks and renders trace: primary camera rays, one cosine-weighted diffuse bounce per hit, and
-// short ambient-occlusion shadow rays. Deterministic for a given seed.
+// short ambient-occlusion shadow rays. Deterministic for a given seed. Secondary-ray origins follow pbrt's
+// conservative offset (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., section 3.9).
 #pragma once
 
 #include <cstdint>
@@ -13,14 +14,36 @@
 
 namespace rayaccel {
 
-/// width * height rays, row-major from the top-left pixel.
+/// width * height rays, row-major from the top-left pixel (both > 0, else Error).
 std::vector<Ray> primary_rays(const Camera& camera, int width, int height);
-/// One cosine-weighted bounce from each hit of `rays` (misses produce none), on the side the ray came from,
-/// unbounded; origins are offset off the surface by a small epsilon in t_min.
+
+/// One cosine-weighted bounce from each hit of `rays` (misses produce none; output order = order of the hits),
+/// on the side the ray came from, unbounded (t in [0, +inf)), unit direction. The random numbers of ray i depend
+/// only on (seed, i), never on the thread count. Each origin is lifted off the surface by
+/// offset_ray_origin(), so the ray cannot hit the surface it leaves.
 std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
                               std::uint64_t seed);
 /// Like diffuse_rays() but with t_max = max_distance (ambient-occlusion rays, traced with occluded()).
 std::vector<Ray> shadow_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
                              float max_distance, std::uint64_t seed);
+
+/// A hit point recomputed from the primitive, with a per-axis bound on its distance from the true surface.
+struct SurfacePoint {
+  Vec3 point;
+  Vec3 error;  ///< |point - exact surface point| <= error on each axis
+};
+
+/// The surface point of a found hit. Triangles: from the barycentrics, p = (1-u-v) v0 + u v1 + v v2, error
+/// gamma(7) * sum |b_i v_i| (pbrt's bound; independent of the ray's length, so distant origins do not widen it).
+/// Spheres: o + t d projected back onto the sphere, error gamma(6) * (|center| + |p - center|). User primitives:
+/// o + t d with a loose bound of 2^-16 * (|o| + |t d|), since their kernel's accuracy is unknown.
+SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
+
+/// The origin of a ray leaving `surface` with unit normal `n` toward direction `w` (dot(w, n) > 0 expected, n
+/// flipped otherwise): moved along n by dot(|n|, error), far enough to clear the error box, then one ulp further
+/// along n on each axis where n is nonzero, so neither the rounding of the addition nor an exact (error 0) point
+/// leaves it on the surface (pbrt's OffsetRayOrigin, plus the exact case). A ray from there with t_min = 0 and
+/// dot(w, n) > 0 does not re-hit the surface it left.
+Vec3 offset_ray_origin(const SurfacePoint& surface, const Vec3& n, const Vec3& w);
 
 }  // namespace rayaccel

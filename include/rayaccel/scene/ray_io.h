@@ -14,11 +14,16 @@
 
 namespace rayaccel {
 
-/// Throws Error naming the file when it cannot be read or its size is not a multiple of 32 bytes.
+/// Throws Error naming the file when it cannot be read or its size is not a multiple of 32 bytes. Records are
+/// returned exactly as stored (no validation of NaN or t ranges: PreparedRay makes bad rays void).
 std::vector<Ray> read_rays(const std::filesystem::path& path);
+/// Writes (replaces) the file; throws Error naming the file when it cannot be written.
 void write_rays(const std::filesystem::path& path, std::span<const Ray> rays);
+/// Throws Error naming the file when it cannot be read or its size is not a multiple of 16 bytes.
 std::vector<Hit> read_hits(const std::filesystem::path& path);
+/// Writes the records as given (call Hit::finish() first so misses have the documented form).
 void write_hits(const std::filesystem::path& path, std::span<const Hit> hits);
+/// Throws Error naming the file when it cannot be read or holds a byte other than 0 or 1.
 std::vector<std::uint8_t> read_occlusion(const std::filesystem::path& path);
 void write_occlusion(const std::filesystem::path& path, std::span<const std::uint8_t> occluded);
 

@@ -1,0 +1,123 @@
+// Shared pieces of the spatial subdivisions (uniform grid, two-level grid, octree): the geometry of a regular grid,
+// incremental 3D-DDA stepping (Amanatides & Woo 1987, "A Fast Voxel Traversal Algorithm for Ray Tracing") and a
+// small per-ray mailbox so a primitive referenced by several cells is tested once per ray.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "rayaccel/accel/ray_mailbox.h"
+#include "rayaccel/core/aabb.h"
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+#include "rayaccel/core/scene.h"
+
+namespace rayaccel {
+
+/// Relative margin by which primitives are padded when assigned to cells: far above float rounding of the cell
+/// planes and of the DDA's distances, so a primitive within rounding distance of a cell boundary (or lying in it)
+/// is referenced on both sides and a ray running along a boundary finds it in whichever cell it is stepped through.
+inline float cell_padding(const AABB& box) {
+  const Vec3 mag = max(abs(box.lo), abs(box.hi));
+  return max_component(mag) * 0x1p-18f + max_component(box.extent()) * 0x1p-20f;
+}
+
+/// The scene box padded so that every axis has a positive extent (flat scenes still get a valid grid).
+inline AABB padded_scene_box(const AABB& bounds) {
+  const float pad = std::max({max_component(bounds.extent()) * 0x1p-10f,
+                              max_component(max(abs(bounds.lo), abs(bounds.hi))) * 0x1p-18f, 1e-30f});
+  return {bounds.lo - Vec3{pad}, bounds.hi + Vec3{pad}};
+}
+
+/// A regular grid of res[0] x res[1] x res[2] cells over `box`. Cell planes are lo + k * cell_size, except the last
+/// plane, which is box.hi exactly; build and traversal both use plane(), so they agree on every boundary.
+struct GridFrame {
+  AABB box;
+  std::array<int, 3> res{1, 1, 1};
+  Vec3 cell_size;
+  Vec3 inv_cell_size;
+
+  static GridFrame make(const AABB& box, const std::array<int, 3>& res) {
+    GridFrame f;
+    f.box = box;
+    f.res = res;
+    for (int a = 0; a < 3; ++a) {
+      f.cell_size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
+      f.inv_cell_size[a] = float(res[a]) / (box.hi[a] - box.lo[a]);
+    }
+    return f;
+  }
+  std::uint32_t cell_count() const { return std::uint32_t(res[0]) * std::uint32_t(res[1]) * std::uint32_t(res[2]); }
+  std::uint32_t linear(int x, int y, int z) const {
+    return (std::uint32_t(z) * std::uint32_t(res[1]) + std::uint32_t(y)) * std::uint32_t(res[0]) + std::uint32_t(x);
+  }
+  float plane(int axis, int k) const { return k >= res[axis] ? box.hi[axis] : box.lo[axis] + float(k) * cell_size[axis]; }
+  /// The cell holding coordinate `coord` on `axis`, clamped into the grid (NaN-free for finite input).
+  int cell_of(float coord, int axis) const {
+    const float f = (coord - box.lo[axis]) * inv_cell_size[axis];
+    return int(std::clamp(f, 0.0f, float(res[axis] - 1)));
+  }
+  AABB cell_bounds(int x, int y, int z) const {
+    return {{plane(0, x), plane(1, y), plane(2, z)}, {plane(0, x + 1), plane(1, y + 1), plane(2, z + 1)}};
+  }
+};
+
+/// Incremental 3D-DDA over a GridFrame. Distances to the next planes are recomputed from plane() at each step (not
+/// accumulated), so they carry only a few roundings however long the walk. Zero direction components (+0 and -0,
+/// and subnormals whose reciprocal overflows) never step on their axis.
+class GridDda {
+ public:
+  /// Starts in the cell holding the ray's point at t_enter (clamped into the grid).
+  GridDda(const PreparedRay& r, const GridFrame& g, float t_enter) {
+    const Vec3 p = r.origin + r.direction * t_enter;
+    for (int a = 0; a < 3; ++a) {
+      cell_[a] = g.cell_of(p[a], a);
+      const bool moves = r.direction[a] != 0.0f && std::isfinite(r.inv_direction[a]);
+      step_[a] = !moves ? 0 : (r.direction[a] > 0.0f ? 1 : -1);
+      end_[a] = step_[a] > 0 ? g.res[a] : -1;
+      t_next_[a] = step_[a] == 0 ? std::numeric_limits<float>::infinity() : next_plane_t(r, g, a);
+    }
+  }
+
+  int cell(int axis) const { return cell_[axis]; }
+  /// Distance at which the ray leaves the current cell.
+  float exit_t() const { return std::min({t_next_[0], t_next_[1], t_next_[2]}); }
+  /// Moves to the next cell along the ray; false when the ray leaves the grid.
+  bool advance(const PreparedRay& r, const GridFrame& g) {
+    const int a = t_next_[0] <= t_next_[1] ? (t_next_[0] <= t_next_[2] ? 0 : 2) : (t_next_[1] <= t_next_[2] ? 1 : 2);
+    if (step_[a] == 0) return false;  // every axis at +inf: the ray never leaves this cell
+    cell_[a] += step_[a];
+    if (cell_[a] == end_[a]) return false;
+    t_next_[a] = next_plane_t(r, g, a);
+    return true;
+  }
+
+ private:
+  float next_plane_t(const PreparedRay& r, const GridFrame& g, int a) const {
+    return (g.plane(a, cell_[a] + (step_[a] > 0 ? 1 : 0)) - r.origin[a]) * r.inv_direction[a];
+  }
+
+  int cell_[3];
+  int step_[3];
+  int end_[3];
+  float t_next_[3];
+};
+
+/// Tests the primitives [begin, end) of one cell, skipping mailboxed ones when `use_mailbox`. Returns true when an
+/// any-hit query may stop.
+template <bool AnyHit, class Stats>
+inline bool test_cell_primitives(const Scene& scene, const std::uint32_t* begin, const std::uint32_t* end,
+                                 bool use_mailbox, RayMailbox<true>& mailbox, const PreparedRay& ray, Hit& hit,
+                                 Stats& stats) {
+  for (const std::uint32_t* p = begin; p != end; ++p) {
+    if (use_mailbox && mailbox.seen_before(*p)) continue;
+    stats.test_primitive();
+    if (scene.intersect(*p, ray, hit) && AnyHit) return true;
+  }
+  return false;
+}
+
+}  // namespace rayaccel

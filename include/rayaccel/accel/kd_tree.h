@@ -1,0 +1,162 @@
+// kd-tree: axis-aligned binary space partition with 8-byte nodes, built either at the median of the centroids
+// (cycling axes) or by the O(N log N) SAH sweep with perfect splits of Wald & Havran 2006 ("On building fast
+// kd-trees for ray tracing, and on doing that in O(N log N)"); traversed front to back by ray segments.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/registry.h"
+#include "rayaccel/accel/segment_traversal.h"
+#include "rayaccel/geometry/ray_box.h"
+
+namespace rayaccel {
+
+struct KdTreeOptions {
+  enum class Builder { median, sah };
+  Builder builder = Builder::sah;
+  /// Deepest allowed leaf; 0 picks round(8 + 1.3 log2 n) (pbrt's rule). At most kKdMaxDepth.
+  int max_depth = 0;
+  /// Median builder: a node with at most this many references becomes a leaf.
+  int leaf_size = 2;
+  /// SAH cost of one traversal step and of one primitive test (Wald & Havran's K_T and K_I).
+  float traversal_cost = 15.0f;
+  float intersection_cost = 20.0f;
+  /// SAH: fraction of the cost saved when a split cuts off an empty child (Wald & Havran use 0.2).
+  float empty_bonus = 0.2f;
+  /// Skip primitives this ray already tested in an earlier leaf (per-ray mailbox of 8 entries).
+  bool mailbox = false;
+};
+
+/// Deepest tree the kd-tree (and BSP tree) builders produce; keeps the traversal stack bounded.
+inline constexpr int kKdMaxDepth = kMaxSegmentDepth - 4;
+
+/// One kd-tree node in 8 bytes. Nodes are stored depth first: an interior node's below child (p[axis] <= split)
+/// is the next node, its above child sits at above_child().
+struct KdNode {
+  // bytes 0-3: bits 0-1 = split axis (0, 1, 2) or 3 for a leaf; bits 2-31 = interior: index of the above child,
+  //            leaf: number of primitive references.
+  std::uint32_t bits = 3;
+  // bytes 4-7: interior: split position (float); leaf: index of the leaf's first entry in the primitive-index array.
+  union {
+    float split;
+    std::uint32_t prim_offset = 0;
+  };
+
+  static constexpr std::uint32_t kLeafTag = 3;
+  static constexpr std::uint32_t kMaxField = (1u << 30) - 1;  ///< largest child index or count bits 2-31 hold
+
+  static KdNode interior(int axis, float split_position, std::uint32_t above) {
+    KdNode n;
+    n.bits = (above << 2) | static_cast<std::uint32_t>(axis);
+    n.split = split_position;
+    return n;
+  }
+  static KdNode leaf(std::uint32_t offset, std::uint32_t count) {
+    KdNode n;
+    n.bits = (count << 2) | kLeafTag;
+    n.prim_offset = offset;
+    return n;
+  }
+  bool is_leaf() const { return (bits & 3u) == kLeafTag; }
+  int axis() const { return static_cast<int>(bits & 3u); }
+  std::uint32_t above_child() const { return bits >> 2; }
+  std::uint32_t prim_count() const { return bits >> 2; }
+};
+static_assert(sizeof(KdNode) == 8, "kd-tree nodes are 8 bytes");
+
+/// Bounds of the part of primitive `prim_id` inside `cell` (empty when it does not reach the cell); for triangles
+/// the triangle clipped to the cell ("perfect splits"), otherwise its box intersected with the cell.
+using ClipToCell = std::function<AABB(std::uint32_t prim_id, const AABB& cell)>;
+
+/// A built kd-tree in its traversal layout.
+struct KdTreeData {
+  std::vector<KdNode> nodes;                ///< depth first; empty for an empty scene
+  std::vector<std::uint32_t> prim_indices;  ///< leaf references, leaf by leaf
+  AABB bounds;                              ///< the root cell
+};
+
+/// Median build: split at the median centroid of the (clipped) references, axes cycling x, y, z by depth, until
+/// options.leaf_size or the depth limit; a reference goes to each side its clipped bounds touch.
+KdTreeData build_kd_tree_median(std::span<const PrimRef> refs, const KdTreeOptions& options, const ClipToCell& clip);
+/// SAH build in O(N log N) with sorted event lists and perfect splits (Wald & Havran 2006): split candidates are the
+/// clipped bounds of each reference, the cost has the empty-space bonus, and a node becomes a leaf when no split
+/// is cheaper than testing its primitives or at the depth limit.
+KdTreeData build_kd_tree_sah(std::span<const PrimRef> refs, const KdTreeOptions& options, const ClipToCell& clip);
+/// The depth limit for n references under `options` (resolves max_depth = 0).
+int kd_tree_max_depth(const KdTreeOptions& options, std::size_t n);
+
+class KdTree final : public AcceleratorImpl<KdTree> {
+ public:
+  explicit KdTree(KdTreeOptions options = {}) : options_(options) {}
+
+  void build(const Scene& scene) override;
+  std::size_t memory_bytes() const override {
+    return data_.nodes.size() * sizeof(KdNode) + data_.prim_indices.size() * sizeof(std::uint32_t);
+  }
+  std::vector<BuildStatistic> build_statistics() const override;
+  std::vector<std::string> validate() const override;
+  const KdTreeData& data() const { return data_; }
+
+  /// Clips the ray to the root cell, then walks the cells it crosses front to back (segment_traversal.h).
+  template <bool AnyHit, class Stats>
+  void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    if (options_.mailbox) {
+      trace_cells<AnyHit, true>(ray, hit, stats);
+    } else {
+      trace_cells<AnyHit, false>(ray, hit, stats);
+    }
+  }
+
+ private:
+  template <bool AnyHit, bool Mailbox, class Stats>
+  void trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+
+  KdTreeOptions options_;
+  const Scene* scene_ = nullptr;
+  KdTreeData data_;
+  double build_ms_ = 0.0;
+};
+
+template <bool AnyHit, bool Mailbox, class Stats>
+void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+  float t0 = ray.t_min, t1 = ray.t_max;
+  if (data_.nodes.empty() || !clip_ray_to_box(ray, data_.bounds, t0, t1)) return;
+  // clip_ray_to_box widens only the far end; widen the near end too so no cell near the entry face is skipped.
+  t0 = std::fmax(ray.t_min, t0 * (t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp));
+  RayMailbox<Mailbox> mailbox;
+  const KdNode* nodes = data_.nodes.data();
+  traverse_segments(0, t0, t1, hit, [&](const SegmentEntry& entry, ChildSegments& children) {
+    const KdNode& node = nodes[entry.node];
+    stats.visit_node();
+    if (!node.is_leaf()) {
+      const int axis = node.axis();
+      const float o = ray.origin[axis], d = ray.direction[axis];
+      const int side = o < node.split ? -1 : (o > node.split ? 1 : 0);
+      // Rounding: 3 operations, so the exact crossing lies within gamma(3) of t_split; widen by twice that.
+      float t_split = (node.split - o) * ray.inv_direction[axis];
+      if (std::isinf(ray.inv_direction[axis])) t_split = (node.split - o) / d;  // 1/d overflowed (denormal d)
+      const float lo = t_split * (t_split >= 0.0f ? kSlabWidenDown : kSlabWidenUp);
+      const float hi = t_split * (t_split >= 0.0f ? kSlabWidenUp : kSlabWidenDown);
+      children = split_segment(entry.node + 1, node.above_child(), side, d, lo, hi, entry.t0, entry.t1);
+      return SegmentVisit::descend;
+    }
+    const std::uint32_t* ids = data_.prim_indices.data() + node.prim_offset;
+    for (std::uint32_t i = 0, n = node.prim_count(); i < n; ++i) {
+      if (mailbox.seen_before(ids[i])) continue;
+      stats.test_primitive();
+      if (scene_->intersect(ids[i], ray, hit) && AnyHit) return SegmentVisit::stop;
+    }
+    return SegmentVisit::leaf_done;
+  });
+}
+
+void register_kd_tree(std::vector<AcceleratorInfo>& registry);
+
+}  // namespace rayaccel

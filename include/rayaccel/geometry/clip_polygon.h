@@ -1,0 +1,110 @@
+// Sutherland–Hodgman clipping of a convex polygon against a half-space or an axis-aligned box (Sutherland & Hodgman
+// 1974): the one copy of polygon clipping, used for the kd-tree's "perfect splits" (Wald & Havran 2006) and for
+// the BSP tree's convex cells (Ize, Wald & Parker 2008).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "rayaccel/core/aabb.h"
+#include "rayaccel/core/vec3.h"
+
+namespace rayaccel {
+
+/// Keeps the part of the convex polygon in[0..n) where dot(normal, p) <= offset (points on the plane are kept) and
+/// writes it to `out`, which must have room for n + 1 vertices. Returns the vertex count of the result (0 when
+/// nothing is left). Signed distances and crossing points are computed in double; `in` and `out` must not alias.
+inline int clip_polygon_to_halfspace(const Vec3* in, int n, const Vec3& normal, double offset, Vec3* out) {
+  auto distance = [&](const Vec3& p) {
+    return double(normal.x) * p.x + double(normal.y) * p.y + double(normal.z) * p.z - offset;
+  };
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3& a = in[i];
+    const Vec3& b = in[(i + 1) % n];
+    const double da = distance(a), db = distance(b);
+    if (da <= 0.0) out[count++] = a;
+    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
+      const double s = da / (da - db);
+      out[count++] = Vec3{float(a.x + s * (double(b.x) - a.x)), float(a.y + s * (double(b.y) - a.y)),
+                          float(a.z + s * (double(b.z) - a.z))};
+    }
+  }
+  return count;
+}
+
+/// Keeps the part of the convex polygon in[0..n) on one side of the plane p[axis] == position: below (p[axis] <=
+/// position) when keep_below, else above. Crossing points get exactly `position` on `axis`. `out` needs room for
+/// n + 1 vertices; `in` and `out` must not alias. Returns the vertex count of the result.
+inline int clip_polygon_to_axis_plane(const Vec3* in, int n, int axis, float position, bool keep_below, Vec3* out) {
+  auto distance = [&](const Vec3& p) {
+    const double d = double(p[axis]) - position;
+    return keep_below ? d : -d;
+  };
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3& a = in[i];
+    const Vec3& b = in[(i + 1) % n];
+    const double da = distance(a), db = distance(b);
+    if (da <= 0.0) out[count++] = a;
+    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
+      const double s = da / (da - db);
+      Vec3 p{float(a.x + s * (double(b.x) - a.x)), float(a.y + s * (double(b.y) - a.y)),
+             float(a.z + s * (double(b.z) - a.z))};
+      p[axis] = position;
+      out[count++] = p;
+    }
+  }
+  return count;
+}
+
+/// Box widened on every side by a small relative margin (2^-20 of the largest coordinate magnitude per axis, plus
+/// the smallest normal float), so that clipping against it never loses a part that touches the exact box.
+inline AABB widen_for_clipping(const AABB& box) {
+  AABB out = box;
+  for (int a = 0; a < 3; ++a) {
+    const float pad = std::fmax(std::fabs(box.lo[a]), std::fabs(box.hi[a])) * 0x1p-20f + 0x1p-126f;
+    out.lo[a] = box.lo[a] - pad;
+    out.hi[a] = box.hi[a] + pad;
+  }
+  return out;
+}
+
+/// Bounds of the part of triangle (a, b, c) inside `box`, conservative: the triangle is clipped against the box
+/// widened by widen_for_clipping(), and the bounds of what is left are intersected with `box`. Empty when the
+/// triangle does not reach the box. A triangle that only touches the box yields a flat (non-empty) result.
+inline AABB clip_triangle_to_box(const Vec3& a, const Vec3& b, const Vec3& c, const AABB& box) {
+  const AABB clip_box = widen_for_clipping(box);
+  Vec3 buffer[2][10];  // a triangle clipped by six planes has at most 9 vertices
+  buffer[0][0] = a;
+  buffer[0][1] = b;
+  buffer[0][2] = c;
+  int n = 3, current = 0;
+  for (int axis = 0; axis < 3 && n > 0; ++axis) {
+    n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.lo[axis], false, buffer[1 - current]);
+    current = 1 - current;
+    if (n == 0) break;
+    n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.hi[axis], true, buffer[1 - current]);
+    current = 1 - current;
+  }
+  AABB bounds;
+  for (int i = 0; i < n; ++i) bounds.extend(buffer[current][i]);
+  bounds = intersection(bounds, box);
+  return bounds.is_empty() ? AABB{} : bounds;
+}
+
+/// Area of a planar polygon p[0..n) (half the length of the summed edge cross products, in double); 0 for n < 3.
+inline double polygon_area(const Vec3* p, int n) {
+  double sx = 0.0, sy = 0.0, sz = 0.0;
+  for (int i = 1; i + 1 < n; ++i) {
+    const double ux = double(p[i].x) - p[0].x, uy = double(p[i].y) - p[0].y, uz = double(p[i].z) - p[0].z;
+    const double vx = double(p[i + 1].x) - p[0].x, vy = double(p[i + 1].y) - p[0].y,
+                 vz = double(p[i + 1].z) - p[0].z;
+    sx += uy * vz - uz * vy;
+    sy += uz * vx - ux * vz;
+    sz += ux * vy - uy * vx;
+  }
+  return 0.5 * std::sqrt(sx * sx + sy * sy + sz * sz);
+}
+
+}  // namespace rayaccel

@@ -1,0 +1,189 @@
+// kd-tree: build dispatch, build statistics, validate() and registration (traversal is in kd_tree.h, builders in
+// kd_tree_build.cpp).
+#include "rayaccel/accel/kd_tree.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+#include "rayaccel/core/error.h"
+#include "rayaccel/geometry/clip_polygon.h"
+
+namespace rayaccel {
+
+namespace {
+
+/// The ClipToCell of a scene: triangles are clipped exactly, other primitives by their boxes.
+ClipToCell scene_clipper(const Scene& scene) {
+  if (scene.kind() == PrimitiveKind::triangles) {
+    return [&scene](std::uint32_t id, const AABB& cell) {
+      const auto& t = scene.triangle(id);
+      return clip_triangle_to_box(t[0], t[1], t[2], cell);
+    };
+  }
+  return [&scene](std::uint32_t id, const AABB& cell) {
+    const AABB b = intersection(scene.primitive_bounds(id), cell);
+    return b.is_empty() ? AABB{} : b;
+  };
+}
+
+/// Visits every node with its cell and depth, depth first.
+template <class F>
+void for_each_node(const KdTreeData& data, F&& f) {
+  if (data.nodes.empty()) return;
+  struct Item {
+    std::uint32_t node;
+    AABB cell;
+    int depth;
+  };
+  std::vector<Item> stack{{0, data.bounds, 0}};
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    if (!f(item.node, item.cell, item.depth)) continue;
+    const KdNode& n = data.nodes[item.node];
+    if (n.is_leaf()) continue;
+    AABB below = item.cell, above = item.cell;
+    below.hi[n.axis()] = n.split;
+    above.lo[n.axis()] = n.split;
+    stack.push_back({n.above_child(), above, item.depth + 1});
+    stack.push_back({item.node + 1, below, item.depth + 1});
+  }
+}
+
+}  // namespace
+
+void KdTree::build(const Scene& scene) {
+  const auto start = std::chrono::steady_clock::now();
+  scene_ = &scene;
+  const std::vector<PrimRef> refs = scene.build_references();
+  const ClipToCell clip = scene_clipper(scene);
+  data_ = options_.builder == KdTreeOptions::Builder::sah ? build_kd_tree_sah(refs, options_, clip)
+                                                          : build_kd_tree_median(refs, options_, clip);
+  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<BuildStatistic> KdTree::build_statistics() const {
+  std::size_t leaves = 0, empty_leaves = 0;
+  int max_depth = 0;
+  double sah = 0.0;
+  const double root_area = data_.bounds.surface_area();
+  for_each_node(data_, [&](std::uint32_t index, const AABB& cell, int depth) {
+    const KdNode& n = data_.nodes[index];
+    max_depth = std::max(max_depth, depth);
+    const double p = root_area > 0.0 ? cell.surface_area() / root_area : 1.0;
+    if (n.is_leaf()) {
+      ++leaves;
+      empty_leaves += n.prim_count() == 0 ? 1 : 0;
+      sah += p * options_.intersection_cost * n.prim_count();
+    } else {
+      sah += p * options_.traversal_cost;
+    }
+    return true;
+  });
+  const std::size_t prims = scene_ ? scene_->primitive_count() - scene_->invalid_count() : 0;
+  return {{"nodes", double(data_.nodes.size())},
+          {"leaves", double(leaves)},
+          {"empty_leaves", double(empty_leaves)},
+          {"max_depth", double(max_depth)},
+          {"references_per_primitive", prims ? double(data_.prim_indices.size()) / double(prims) : 0.0},
+          {"sah_cost", sah},
+          {"build_ms", build_ms_}};
+}
+
+std::vector<std::string> KdTree::validate() const {
+  if (!scene_) return {"not built"};
+  std::vector<std::string> problems;
+  auto report = [&](const std::string& s) {
+    if (problems.size() < 20) problems.push_back(s);
+  };
+  const std::size_t node_count = data_.nodes.size();
+  const std::uint32_t prim_count = scene_->primitive_count();
+  if (node_count == 0) {
+    if (prim_count != scene_->invalid_count()) report("no nodes, but the scene has valid primitives");
+    return problems;
+  }
+  const ClipToCell clip = scene_clipper(*scene_);
+  const int depth_limit = kd_tree_max_depth(options_, prim_count - scene_->invalid_count());
+  std::vector<std::uint8_t> referenced(prim_count, 0);
+  std::vector<std::uint8_t> reached(node_count, 0);
+  for_each_node(data_, [&](std::uint32_t index, const AABB& cell, int depth) {
+    const std::string where = "node " + std::to_string(index);
+    if (index >= node_count) { report(where + ": child index out of range"); return false; }
+    if (reached[index]) { report(where + ": reached twice"); return false; }
+    reached[index] = 1;
+    if (depth > depth_limit) report(where + ": depth " + std::to_string(depth) + " exceeds the limit");
+    const KdNode& n = data_.nodes[index];
+    if (!n.is_leaf()) {
+      const int a = n.axis();
+      if (!(n.split >= cell.lo[a] && n.split <= cell.hi[a])) report(where + ": split position outside its cell");
+      if (index + 1 >= node_count || n.above_child() <= index) report(where + ": child offsets out of order");
+      return true;
+    }
+    if (std::size_t(n.prim_offset) + n.prim_count() > data_.prim_indices.size()) {
+      report(where + ": leaf range out of the primitive-index array");
+      return false;
+    }
+    for (std::uint32_t i = 0; i < n.prim_count(); ++i) {
+      const std::uint32_t id = data_.prim_indices[n.prim_offset + i];
+      if (id >= prim_count || !scene_->is_valid(id)) { report(where + ": bad primitive id"); continue; }
+      referenced[id] = 1;
+      if (clip(id, cell).is_empty()) report(where + ": primitive " + std::to_string(id) + " does not reach its cell");
+    }
+    return true;
+  });
+  for (std::size_t i = 0; i < node_count; ++i) {
+    if (!reached[i]) { report("node " + std::to_string(i) + " is unreachable"); break; }
+  }
+  for (std::uint32_t id = 0; id < prim_count; ++id) {
+    if (scene_->is_valid(id) && !referenced[id]) report("primitive " + std::to_string(id) + " is in no leaf");
+  }
+  return problems;
+}
+
+namespace {
+
+KdTreeOptions parse_options(const Options& o) {
+  KdTreeOptions k;
+  k.builder = o.get("builder") == "median" ? KdTreeOptions::Builder::median : KdTreeOptions::Builder::sah;
+  const long long depth = o.get_int("max_depth");
+  if (depth < 0 || depth > kKdMaxDepth) {
+    throw Error("kdtree: max_depth=" + o.get("max_depth") + " is outside [0, " + std::to_string(kKdMaxDepth) + "]");
+  }
+  k.max_depth = static_cast<int>(depth);
+  const long long leaf = o.get_int("leaf_size");
+  if (leaf < 1 || leaf > 1 << 20) throw Error("kdtree: leaf_size=" + o.get("leaf_size") + " is outside [1, 2^20]");
+  k.leaf_size = static_cast<int>(leaf);
+  k.traversal_cost = static_cast<float>(o.get_real("traversal_cost"));
+  k.intersection_cost = static_cast<float>(o.get_real("intersection_cost"));
+  if (!(k.traversal_cost > 0.0f)) throw Error("kdtree: traversal_cost=" + o.get("traversal_cost") + " must be > 0");
+  if (!(k.intersection_cost > 0.0f)) {
+    throw Error("kdtree: intersection_cost=" + o.get("intersection_cost") + " must be > 0");
+  }
+  k.empty_bonus = static_cast<float>(o.get_real("empty_bonus"));
+  if (!(k.empty_bonus >= 0.0f && k.empty_bonus < 1.0f)) {
+    throw Error("kdtree: empty_bonus=" + o.get("empty_bonus") + " is outside [0, 1)");
+  }
+  k.mailbox = o.get_bool("mailbox");
+  return k;
+}
+
+}  // namespace
+
+void register_kd_tree(std::vector<AcceleratorInfo>& registry) {
+  registry.push_back(
+      {"kdtree",
+       "kd-tree: median or O(N log N) SAH build with perfect splits (Wald & Havran 2006), 8-byte nodes",
+       {{"builder", OptionType::choice, "sah", "median: median centroid, axes cycling; sah: Wald & Havran sweep",
+         {"median", "sah"}},
+        {"max_depth", OptionType::integer, "0", "deepest leaf; 0 = round(8 + 1.3 log2 n)", {}},
+        {"leaf_size", OptionType::integer, "2", "median builder: largest node made a leaf", {}},
+        {"traversal_cost", OptionType::real, "15", "SAH cost of one traversal step (K_T)", {}},
+        {"intersection_cost", OptionType::real, "20", "SAH cost of one primitive test (K_I)", {}},
+        {"empty_bonus", OptionType::real, "0.2", "SAH: cost fraction saved by cutting off an empty cell", {}},
+        {"mailbox", OptionType::boolean, "false", "skip primitives the ray already tested (8-entry mailbox)", {}}},
+       {"kdtree:builder=median", "kdtree:builder=sah", "kdtree:builder=sah,mailbox=true"},
+       [](const Options& o) { return std::make_unique<KdTree>(parse_options(o)); }});
+}
+
+}  // namespace rayaccel

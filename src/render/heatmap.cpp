@@ -1,0 +1,76 @@
+// Heat-map scale and legend: the colour bar and numeric labels drawn with the bitmap font.
+#include "rayaccel/render/heatmap.h"
+
+#include <algorithm>
+#include <string>
+
+#include "rayaccel/render/bitmap_font.h"
+#include "rayaccel/render/colormap.h"
+
+namespace rayaccel {
+
+namespace {
+
+constexpr Rgb kPanel{16, 16, 20};
+constexpr Rgb kText{240, 240, 240};
+
+/// Legend pixels per font pixel: 1 up to 383 pixels on the short side, then one more per 256.
+int legend_scale(int width, int height) { return std::max(1, (std::min(width, height) + 128) / 256); }
+
+}  // namespace
+
+CostRange cost_range(std::span<const TraversalStats> stats) {
+  if (stats.empty()) return {};
+  CostRange r{traversal_cost(stats[0]), traversal_cost(stats[0])};
+  for (const TraversalStats& s : stats) {
+    const std::uint64_t c = traversal_cost(s);
+    r.min = std::min(r.min, c);
+    r.max = std::max(r.max, c);
+  }
+  return r;
+}
+
+float cost_fraction(std::uint64_t cost, const CostRange& range) {
+  if (range.max <= range.min) return 0.5f;
+  const double f = (static_cast<double>(cost) - static_cast<double>(range.min)) /
+                   (static_cast<double>(range.max) - static_cast<double>(range.min));
+  return static_cast<float>(std::clamp(f, 0.0, 1.0));
+}
+
+int heat_legend_height(int width, int height) {
+  const int s = legend_scale(width, height);
+  return 3 * s + 8 * s + 2 * s + kGlyphHeight * s + 3 * s;  // margin, bar, gap, labels, margin
+}
+
+void draw_heat_legend(Image& image, const CostRange& range) {
+  const int s = legend_scale(image.width, image.height);
+  const int margin = 3 * s;
+  const int legend_height = heat_legend_height(image.width, image.height);
+  if (3 * legend_height > image.height) return;
+  const int top = image.height - legend_height;
+  image.fill_rect(0, top, image.width, image.height - top, kPanel);
+
+  const int bar_x = margin, bar_y = top + margin, bar_w = std::max(1, image.width - 2 * margin), bar_h = 8 * s;
+  for (int x = 0; x < bar_w; ++x) {
+    const float t = bar_w > 1 ? static_cast<float>(x) / static_cast<float>(bar_w - 1) : 0.0f;
+    image.fill_rect(bar_x + x, bar_y, 1, bar_h, heat_colour(t));
+  }
+
+  const int label_y = bar_y + bar_h + 2 * s;
+  const std::string lo = std::to_string(range.min), hi = std::to_string(range.max);
+  const int lo_w = text_width(lo, s), hi_w = text_width(hi, s);
+  draw_text(image, lo, bar_x, label_y, s, kText);
+  const int hi_x = bar_x + bar_w - hi_w;
+  if (hi_x > bar_x + lo_w + kGlyphAdvance * s) draw_text(image, hi, hi_x, label_y, s, kText);
+  // The caption goes in the middle only when it leaves at least two glyphs of space to either label.
+  for (const char* caption : {"COST = NODES+PRIMS", "COST"}) {
+    const int w = text_width(caption, s);
+    const int x = bar_x + (bar_w - w) / 2;
+    if (x >= bar_x + lo_w + 2 * kGlyphAdvance * s && x + w <= hi_x - 2 * kGlyphAdvance * s) {
+      draw_text(image, caption, x, label_y, s, kText);
+      break;
+    }
+  }
+}
+
+}  // namespace rayaccel

@@ -1,0 +1,177 @@
+// The renderer: primary rays in chunks of rows through an accelerator's batch API, then normal, ambient-occlusion
+// or traversal-cost shading per pixel in parallel over rows.
+#include "rayaccel/render/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "rayaccel/core/error.h"
+#include "rayaccel/render/colormap.h"
+#include "rayaccel/render/heatmap.h"
+#include "rayaccel/render/sampling.h"
+#include "rayaccel/render/workloads.h"
+
+namespace rayaccel {
+
+namespace {
+
+constexpr Rgb kBackground{28, 30, 38};
+constexpr std::size_t kRaysPerChunk = std::size_t{1} << 15;  // enough rays per batch to keep every core busy
+constexpr float kAoAlbedo = 0.8f;
+
+void check_settings(const RenderSettings& settings) {
+  if (settings.width <= 0 || settings.height <= 0) {
+    throw Error("render: image size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                " is not positive");
+  }
+  if (settings.mode != ShadingMode::ambient_occlusion) return;
+  if (settings.ao_samples < 1) throw Error("render: ao_samples " + std::to_string(settings.ao_samples) + " < 1");
+  if (!(std::isfinite(settings.ao_distance_fraction) && settings.ao_distance_fraction >= 0.0f)) {
+    throw Error("render: ao_distance_fraction " + std::to_string(settings.ao_distance_fraction) +
+                " is not a finite value >= 0");
+  }
+}
+
+/// Runs body(y) for every row in [y0, y1) in parallel.
+template <class Body>
+void for_rows(int y0, int y1, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<int>(y0, y1), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) body(y);
+  });
+}
+
+class Timer {
+ public:
+  explicit Timer(double& total_ms) : total_ms_(total_ms), start_(std::chrono::steady_clock::now()) {}
+  ~Timer() {
+    total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
+  Timer(const Timer&) = delete;
+  Timer& operator=(const Timer&) = delete;
+
+ private:
+  double& total_ms_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+/// Fraction of each hit's AO rays that nothing blocks, for the hits of one chunk in order.
+std::vector<float> ambient_visibility(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
+                                      std::span<const Hit> hits, const RenderSettings& settings,
+                                      std::uint64_t chunk, RenderResult& result) {
+  const float max_distance = settings.ao_distance_fraction * length(scene.bounds().extent());
+  std::vector<Ray> batch;
+  std::size_t hit_count = 0;
+  for (int s = 0; s < settings.ao_samples; ++s) {
+    // One seed per (chunk, sample): chunks depend only on the image width, so the rays never depend on threads.
+    const std::vector<Ray> sample = shadow_rays(scene, rays, hits, std::isfinite(max_distance) ? max_distance : 0.0f,
+                                                hash_counter(settings.seed, chunk, static_cast<std::uint32_t>(s)));
+    hit_count = sample.size();
+    batch.insert(batch.end(), sample.begin(), sample.end());
+  }
+  std::vector<std::uint8_t> blocked(batch.size());
+  std::vector<TraversalStats> stats(batch.size());
+  {
+    Timer timer(result.trace_milliseconds);
+    accel.occluded(batch, blocked, stats);
+  }
+  result.rays += batch.size();
+  for (const TraversalStats& st : stats) result.total += st;
+  std::vector<float> visible(hit_count, 0.0f);
+  for (std::size_t k = 0; k < hit_count; ++k) {
+    int open = 0;
+    for (int s = 0; s < settings.ao_samples; ++s) open += blocked[s * hit_count + k] ? 0 : 1;
+    visible[k] = static_cast<float>(open) / static_cast<float>(settings.ao_samples);
+  }
+  return visible;
+}
+
+Rgb normal_colour(const Vec3& n) {
+  const Vec3 a = abs(n);
+  return {static_cast<std::uint8_t>(std::lround(std::clamp(a.x, 0.0f, 1.0f) * 255.0f)),
+          static_cast<std::uint8_t>(std::lround(std::clamp(a.y, 0.0f, 1.0f) * 255.0f)),
+          static_cast<std::uint8_t>(std::lround(std::clamp(a.z, 0.0f, 1.0f) * 255.0f))};
+}
+
+Rgb scaled(Rgb c, float f) {
+  return {static_cast<std::uint8_t>(std::lround(c.r * f)), static_cast<std::uint8_t>(std::lround(c.g * f)),
+          static_cast<std::uint8_t>(std::lround(c.b * f))};
+}
+
+void shade_heatmap(Image& image, const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
+                   std::span<const TraversalStats> stats) {
+  const CostRange range = cost_range(stats);
+  for_rows(0, image.height, [&](int y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * image.width + x;
+      Rgb c = heat_colour(cost_fraction(traversal_cost(stats[i]), range));
+      if (hits[i].found()) {
+        const float facing = std::fabs(dot(scene.normal(rays[i], hits[i]), rays[i].direction));
+        c = scaled(c, 0.6f + 0.3f * std::clamp(facing, 0.0f, 1.0f));
+      }
+      image.set(x, y, c);
+    }
+  });
+  draw_heat_legend(image, range);
+}
+
+}  // namespace
+
+ShadingMode parse_shading_mode(std::string_view text) {
+  if (text == "normals") return ShadingMode::normals;
+  if (text == "ao") return ShadingMode::ambient_occlusion;
+  if (text == "heatmap") return ShadingMode::heatmap;
+  throw Error("unknown shading mode '" + std::string(text) + "' (known: normals, ao, heatmap)");
+}
+
+RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& camera,
+                    const RenderSettings& settings) {
+  check_settings(settings);
+  const int width = settings.width, height = settings.height;
+  RenderResult result;
+  result.image = Image::filled(width, height, kBackground);
+  const std::vector<Ray> rays = primary_rays(camera, width, height);
+  std::vector<Hit> hits(rays.size());
+  std::vector<TraversalStats> stats(rays.size());
+  result.rays = rays.size();
+
+  const int chunk_rows = static_cast<int>(std::max<std::size_t>(1, kRaysPerChunk / static_cast<std::size_t>(width)));
+  for (int y0 = 0, chunk = 0; y0 < height; y0 += chunk_rows, ++chunk) {
+    const int y1 = std::min(height, y0 + chunk_rows);
+    const std::size_t first = static_cast<std::size_t>(y0) * width;
+    const std::size_t count = static_cast<std::size_t>(y1 - y0) * width;
+    const std::span<const Ray> chunk_rays(rays.data() + first, count);
+    const std::span<Hit> chunk_hits(hits.data() + first, count);
+    {
+      Timer timer(result.trace_milliseconds);
+      accel.intersect(chunk_rays, chunk_hits, std::span<TraversalStats>(stats.data() + first, count));
+    }
+    if (settings.mode == ShadingMode::normals) {
+      for_rows(y0, y1, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * width + x;
+          if (hits[i].found()) result.image.set(x, y, normal_colour(scene.normal(rays[i], hits[i])));
+        }
+      });
+    } else if (settings.mode == ShadingMode::ambient_occlusion) {
+      const std::vector<float> visible =
+          ambient_visibility(accel, scene, chunk_rays, chunk_hits, settings, static_cast<std::uint64_t>(chunk), result);
+      std::size_t k = 0;  // hits are numbered in pixel order, as shadow_rays() emits them
+      for (std::size_t i = first; i < first + count; ++i) {
+        if (!hits[i].found()) continue;
+        const std::uint8_t grey = encode_srgb(kAoAlbedo * visible[k++]);
+        result.image.set(static_cast<int>(i % width), static_cast<int>(i / width), {grey, grey, grey});
+      }
+    }
+    if (settings.progress) settings.progress(static_cast<float>(y1) / static_cast<float>(height));
+  }
+  for (const TraversalStats& st : stats) result.total += st;
+  if (settings.mode == ShadingMode::heatmap) shade_heatmap(result.image, scene, rays, hits, stats);
+  return result;
+}
+
+}  // namespace rayaccel

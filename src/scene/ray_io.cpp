@@ -1,0 +1,107 @@
+// The raw little-endian .rays / .hits / .occ exchange files: every record is a sequence of 4-byte words (or bytes),
+// copied as is on little-endian hosts and byte-swapped per word elsewhere.
+#include "rayaccel/scene/ray_io.h"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <system_error>
+#include <type_traits>
+
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+
+namespace {
+
+static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559, "the files hold IEEE-754 float32");
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+/// Reverses the bytes of every 4-byte word on big-endian hosts (a no-op on little-endian ones).
+void to_or_from_little_endian(unsigned char* bytes, std::size_t size) {
+  if constexpr (std::endian::native != std::endian::little) {
+    for (std::size_t i = 0; i + 4 <= size; i += 4) std::reverse(bytes + i, bytes + i + 4);
+  } else {
+    (void)bytes;
+    (void)size;
+  }
+}
+
+/// Reads the whole file as `record_size`-byte records into a vector of T (a record of 4-byte words).
+template <class T>
+std::vector<T> read_records(const std::filesystem::path& path, const char* what) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(path, ec)) {
+    throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": " +
+                (errno != 0 ? std::strerror(errno) : "not a readable file"));
+  }
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": read error");
+  if (bytes.size() % sizeof(T) != 0) {
+    throw Error(std::string(what) + " file " + quoted(path) + " has " + std::to_string(bytes.size()) +
+                " bytes, not a multiple of the " + std::to_string(sizeof(T)) + "-byte record");
+  }
+  std::vector<T> records(bytes.size() / sizeof(T));
+  if (!bytes.empty()) std::memcpy(records.data(), bytes.data(), bytes.size());
+  if constexpr (sizeof(T) % 4 == 0) {
+    to_or_from_little_endian(reinterpret_cast<unsigned char*>(records.data()), bytes.size());
+  }
+  return records;
+}
+
+template <class T>
+void write_records(const std::filesystem::path& path, std::span<const T> records, const char* what) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  std::vector<unsigned char> bytes(records.size_bytes());
+  if (!bytes.empty()) std::memcpy(bytes.data(), records.data(), bytes.size());
+  if constexpr (sizeof(T) % 4 == 0) to_or_from_little_endian(bytes.data(), bytes.size());
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    throw Error("cannot write " + std::string(what) + " file " + quoted(path) + ": " +
+                (errno != 0 ? std::strerror(errno) : "cannot open"));
+  }
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw Error("cannot write " + std::string(what) + " file " + quoted(path) + ": write error");
+}
+
+}  // namespace
+
+std::vector<Ray> read_rays(const std::filesystem::path& path) { return read_records<Ray>(path, "ray"); }
+
+void write_rays(const std::filesystem::path& path, std::span<const Ray> rays) {
+  write_records<Ray>(path, rays, "ray");
+}
+
+std::vector<Hit> read_hits(const std::filesystem::path& path) { return read_records<Hit>(path, "hit"); }
+
+void write_hits(const std::filesystem::path& path, std::span<const Hit> hits) {
+  write_records<Hit>(path, hits, "hit");
+}
+
+std::vector<std::uint8_t> read_occlusion(const std::filesystem::path& path) {
+  std::vector<std::uint8_t> occluded = read_records<std::uint8_t>(path, "occlusion");
+  for (std::size_t i = 0; i < occluded.size(); ++i) {
+    if (occluded[i] > 1) {
+      throw Error("occlusion file " + quoted(path) + ": byte " + std::to_string(i) + " is " +
+                  std::to_string(occluded[i]) + ", not 0 or 1");
+    }
+  }
+  return occluded;
+}
+
+void write_occlusion(const std::filesystem::path& path, std::span<const std::uint8_t> occluded) {
+  write_records<std::uint8_t>(path, occluded, "occlusion");
+}
+
+}  // namespace rayaccel

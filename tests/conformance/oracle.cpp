@@ -1,0 +1,116 @@
+// Oracle comparison for the conformance suite (see oracle.h).
+#include "oracle.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cmath>
+
+#include "rayaccel/accel/brute_force.h"
+#include "rayaccel/accel/registry.h"
+
+namespace rayaccel::conformance {
+
+namespace {
+
+constexpr int kMaxReportedFaults = 5;
+
+std::string sanitized(const std::string& spec) {
+  std::string out;
+  for (char c : spec) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return out.empty() ? std::string("unnamed") : out;
+}
+
+}  // namespace
+
+const std::vector<std::string>& variant_specs() {
+  static const std::vector<std::string> specs = accelerator_variant_names();
+  return specs;
+}
+
+std::string spec_test_name(const ::testing::TestParamInfo<std::string>& info) {
+  const std::string name = sanitized(info.param);
+  int same = 0;
+  for (const auto& spec : variant_specs()) same += sanitized(spec) == name ? 1 : 0;
+  return same > 1 ? name + "_" + std::to_string(info.index) : name;
+}
+
+std::unique_ptr<Accelerator> build_checked(const std::string& spec, const Scene& scene) {
+  auto accel = make_accelerator(spec);
+  accel->build(scene);
+  for (const auto& problem : accel->validate()) {
+    ADD_FAILURE() << spec << " on scene '" << scene.name() << "': validate(): " << problem;
+  }
+  return accel;
+}
+
+std::vector<Hit> brute_force_hits(const Scene& scene, std::span<const Ray> rays) {
+  BruteForce oracle;
+  oracle.build(scene);
+  std::vector<Hit> hits(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = oracle.intersect(rays[i]);
+  return hits;
+}
+
+std::string describe(const Ray& r) {
+  return fmt::format("Ray{{o=({}, {}, {}) d=({}, {}, {}) t=({}, {}]}}", r.origin.x, r.origin.y, r.origin.z,
+                     r.direction.x, r.direction.y, r.direction.z, r.t_min, r.t_max);
+}
+
+std::string describe(const Hit& h) {
+  if (!h.found()) return fmt::format("miss(t={})", h.t);
+  return fmt::format("hit(prim={} t={} u={} v={})", h.prim_id, h.t, h.u, h.v);
+}
+
+std::string hit_mismatch(const Scene& scene, const Ray& ray, const Hit& expected, const Hit& actual) {
+  if (expected.found() != actual.found()) return expected.found() ? "missed a hit" : "reported a hit that is not there";
+  if (!expected.found()) {
+    return std::isinf(actual.t) && actual.t > 0.0f ? "" : "a miss must have t = +inf";
+  }
+  if (actual.prim_id >= scene.primitive_count()) return "prim_id out of range";
+  if (!(std::fabs(actual.t - expected.t) <= kRelativeTTolerance * std::fabs(expected.t))) return "t differs";
+  if (actual.prim_id == expected.prim_id) {
+    if (!(std::fabs(actual.u - expected.u) <= kBarycentricTolerance &&
+          std::fabs(actual.v - expected.v) <= kBarycentricTolerance)) {
+      return "u, v differ on the same primitive";
+    }
+    return "";
+  }
+  // A different primitive is right only in a tie: the kernel must hit it at exactly the oracle's t.
+  const PreparedRay prepared(ray);
+  Hit check = Hit::begin(prepared);
+  if (!scene.intersect(actual.prim_id, prepared, check)) return "reported primitive is not hit by this ray";
+  if (check.t != actual.t) return fmt::format("reported primitive is hit at t={}, not at the reported t", check.t);
+  if (actual.t != expected.t) return "different primitive without a tie in t";
+  return "";
+}
+
+void expect_matches_reference(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
+                              std::span<const Hit> reference, const std::string& label) {
+  ASSERT_EQ(rays.size(), reference.size());
+  int faults = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit hit = accel.intersect(rays[i]);
+    std::string fault = hit_mismatch(scene, rays[i], reference[i], hit);
+    const bool occluded = accel.occluded(rays[i]);
+    if (fault.empty() && occluded != reference[i].found()) {
+      fault = occluded ? "occluded() is true but nothing is hit" : "occluded() is false but something is hit";
+    }
+    if (fault.empty()) continue;
+    if (++faults <= kMaxReportedFaults) {
+      ADD_FAILURE() << accel.spec() << " / " << label << " / ray " << i << ": " << fault << "\n  " << describe(rays[i])
+                    << "\n  expected " << describe(reference[i]) << "\n  got      " << describe(hit)
+                    << " occluded=" << occluded;
+    }
+  }
+  EXPECT_EQ(faults, 0) << accel.spec() << " / " << label << ": " << faults << " of " << rays.size()
+                       << " rays disagree with brute force";
+}
+
+void expect_matches_brute_force(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
+                                const std::string& label) {
+  const std::vector<Hit> reference = brute_force_hits(scene, rays);
+  expect_matches_reference(accel, scene, rays, reference, label);
+}
+
+}  // namespace rayaccel::conformance
