@@ -178,5 +178,3 @@ RAYACCEL_TIGHTNESS(Kdop26Volume, "kdop26");
 
 }  // namespace
 }  // namespace rayaccel
-
-BENCHMARK_MAIN();

@@ -1,6 +1,7 @@
 // k-DOP fitting and measuring. Area and volume are exact: each face polygon is the face plane clipped by every
-// other half-space (Sutherland & Hodgman 1974, applied to a convex polygon in 3D), and the volume sums the cones
-// from an interior point over the faces (divergence theorem).
+// other half-space (Sutherland & Hodgman 1974, on a convex polygon in 3D; here in double with projection-carrying
+// vertices rather than geometry/clip_polygon.h's float one), and the volume sums the cones from an interior point
+// over the faces (divergence theorem).
 #include "rayaccel/bv/kdop_volume.h"
 
 #include <algorithm>
@@ -8,7 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <span>
-#include <tuple>
 
 #include "fit_support.h"
 #include "rayaccel/geometry/float_rounding.h"
@@ -31,91 +31,108 @@ double fit_margin(std::span<const Vec3> points) {
   return std::max(kFitMargin * scale, double(std::numeric_limits<float>::min()));
 }
 
-/// The half-space dot(normal, p) <= offset.
-struct HalfSpace {
-  Vec3d normal;
-  double offset;
-};
-
-/// A convex polygon with room for the start square plus one vertex per clip.
-struct Polygon {
-  std::array<Vec3d, 48> v;
-  int count = 0;
-};
-
-/// Clips in by the half-space into out; returns false (out untouched) when nothing is cut off.
-bool clip(const Polygon& in, const HalfSpace& h, double tolerance, Polygon& out) {
-  std::array<double, std::tuple_size_v<decltype(Polygon::v)>> dist;
-  bool cuts = false;
-  for (int i = 0; i < in.count; ++i) {
-    dist[i] = bv_detail::dot(h.normal, in.v[i]) - h.offset - tolerance;
-    cuts |= dist[i] > 0.0;
-  }
-  if (!cuts) return false;
-  out.count = 0;
-  for (int i = 0; i < in.count; ++i) {
-    const int j = i + 1 == in.count ? 0 : i + 1;
-    const Vec3d& a = in.v[i];
-    const double da = dist[i], db = dist[j];
-    // A convex polygon gains at most one vertex per clip; the capacity check only guards against rounding.
-    if (da <= 0.0 && out.count < int(out.v.size())) out.v[out.count++] = a;
-    if (((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) && out.count < int(out.v.size()))
-      out.v[out.count++] = a + (in.v[j] - a) * (da / (da - db));
-  }
-  return true;
-}
-
-double polygon_area(const Polygon& p) {
-  Vec3d sum;
-  for (int i = 1; i + 1 < p.count; ++i) sum = sum + bv_detail::cross(p.v[i] - p.v[0], p.v[i + 1] - p.v[0]);
-  return 0.5 * bv_detail::length(sum);
-}
-
 struct Measure {
   double area = 0.0;
   double volume = 0.0;
 };
 
+/// Area and volume of the k-DOP. Face plane g is slab g / 2's lo side (g even: lo - s <= 0, s the projection on the
+/// slab direction) or hi side (g odd: s - hi <= 0). Each face starts as the bounding box's face (coordinate planes)
+/// or a square larger than the box (diagonal planes) and is clipped by every other half-space; vertices carry their k/2 projections, so the distance to any plane is one
+/// subtraction and a crossing vertex interpolates them (the projections are linear).
 template <int K>
 Measure measure(const KdopVolume<K>& kdop) {
+  constexpr int kSlabs = KdopVolume<K>::kSlabs;
+  constexpr int kPlanes = 2 * kSlabs;
   constexpr auto dirs = kdop_directions<K>();
-  constexpr int n = 2 * KdopVolume<K>::kSlabs;
-  std::array<HalfSpace, n> planes;
-  for (int j = 0; j < KdopVolume<K>::kSlabs; ++j) {
-    const Vec3d d(dirs[j]);
-    planes[2 * j] = {d * -1.0, -double(kdop.lo[j])};
-    planes[2 * j + 1] = {d, double(kdop.hi[j])};
-  }
-  const Vec3d lo(kdop.bounds().lo), hi(kdop.bounds().hi);
+  struct Vertex {
+    Vec3d p;
+    std::array<double, kSlabs> proj;
+  };
+  const auto beyond = [&](const Vertex& v, int g) {
+    const int j = g >> 1;
+    return (g & 1) ? v.proj[j] - double(kdop.hi[j]) : double(kdop.lo[j]) - v.proj[j];
+  };
+  const AABB box = kdop.bounds();
+  const Vec3d lo(box.lo), hi(box.hi);
   const Vec3d center = (lo + hi) * 0.5;
   const double diagonal = bv_detail::length(hi - lo);
   const double scale = diagonal + std::max(bv_detail::length(lo), bv_detail::length(hi));
   const double half_size = 2.0 * diagonal + 1e-30;
-  std::array<double, n> tolerance;
-  for (int g = 0; g < n; ++g) tolerance[g] = 1e-12 * scale * bv_detail::length(planes[g].normal);
+  // Points within this of a plane count as on it, so coincident planes (flat k-DOPs) do not clip each other away.
+  const double tolerance = 2e-12 * scale;
+  // A convex polygon gains at most one vertex per clip (two new, at least one dropped); the pool has room for two
+  // new vertices per clip, and the capacity checks only guard against rounding.
+  std::array<Vertex, 4 + 2 * kPlanes> pool;
+  std::array<int, pool.size()> index_buffers[2];
+  std::array<double, pool.size()> dist;
   Measure m;
-  for (int f = 0; f < n; ++f) {
-    const double norm = bv_detail::length(planes[f].normal);
-    const Vec3d unit = planes[f].normal * (1.0 / norm);
-    const double height = (planes[f].offset - bv_detail::dot(planes[f].normal, center)) / norm;
+  for (int f = 0; f < kPlanes; ++f) {
+    const Vec3d dir(dirs[f >> 1]);
+    const double norm = bv_detail::length(dir);
+    const Vec3d unit = dir * ((f & 1) ? 1.0 / norm : -1.0 / norm);
+    const double offset = (f & 1) ? double(kdop.hi[f >> 1]) : -double(kdop.lo[f >> 1]);
+    const double height = (offset / norm - bv_detail::dot(unit, center));
     const Vec3d foot = center + unit * height;
-    // A square on the face plane, larger than the bounding box, cut down by every other half-space.
     const Vec3d helper = std::fabs(unit.x) < 0.5 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
     const Vec3d t1 = bv_detail::normalize(bv_detail::cross(unit, helper));
     const Vec3d t2 = bv_detail::cross(unit, t1);
-    Polygon buffers[2];
-    Polygon* a = &buffers[0];
-    Polygon* b = &buffers[1];
-    a->count = 4;
-    a->v[0] = foot + (t1 + t2) * half_size;
-    a->v[1] = foot + (t2 - t1) * half_size;
-    a->v[2] = foot - (t1 + t2) * half_size;
-    a->v[3] = foot + (t1 - t2) * half_size;
-    for (int g = 0; g < n && a->count > 0; ++g) {
-      if (g == f) continue;
-      if (clip(*a, planes[g], tolerance[g], *b)) std::swap(a, b);
+    const auto make_vertex = [&](int slot, const Vec3d& p) {
+      pool[slot].p = p;
+      for (int j = 0; j < kSlabs; ++j) pool[slot].proj[j] = bv_detail::dot(Vec3d(dirs[j]), p);
+    };
+    if (f < 6) {
+      // A coordinate face starts as the bounding box's face, which the other axis planes cannot cut.
+      const int axis = f >> 1, u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int c = 0; c < 4; ++c) {
+        Vec3d corner;
+        corner[axis] = (f & 1) ? hi[axis] : lo[axis];
+        corner[u] = (c == 1 || c == 2) ? hi[u] : lo[u];
+        corner[v] = (c >= 2) ? hi[v] : lo[v];
+        make_vertex(c, corner);
+      }
+    } else {
+      make_vertex(0, foot + (t1 + t2) * half_size);
+      make_vertex(1, foot + (t2 - t1) * half_size);
+      make_vertex(2, foot - (t1 + t2) * half_size);
+      make_vertex(3, foot + (t1 - t2) * half_size);
     }
-    const double area = a->count >= 3 ? polygon_area(*a) : 0.0;
+    int pool_size = 4;
+    int* poly = index_buffers[0].data();
+    int* next = index_buffers[1].data();
+    int count = 4;
+    for (int i = 0; i < 4; ++i) poly[i] = i;
+    for (int g = f < 6 ? 6 : 0; g < kPlanes && count > 0; ++g) {
+      if (g == f) continue;
+      bool cuts = false;
+      for (int i = 0; i < count; ++i) {
+        dist[i] = beyond(pool[poly[i]], g) - tolerance;
+        cuts |= dist[i] > 0.0;
+      }
+      if (!cuts) continue;
+      int kept = 0;
+      for (int i = 0; i < count; ++i) {
+        const int k = i + 1 == count ? 0 : i + 1;
+        const double da = dist[i], db = dist[k];
+        if (da <= 0.0 && kept < int(pool.size())) next[kept++] = poly[i];
+        if (((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) && kept < int(pool.size()) &&
+            pool_size < int(pool.size())) {
+          const Vertex &a = pool[poly[i]], &b = pool[poly[k]];
+          const double t = da / (da - db);
+          Vertex& v = pool[pool_size];
+          v.p = a.p + (b.p - a.p) * t;
+          for (int j = 0; j < kSlabs; ++j) v.proj[j] = a.proj[j] + (b.proj[j] - a.proj[j]) * t;
+          next[kept++] = pool_size++;
+        }
+      }
+      std::swap(poly, next);
+      count = kept;
+    }
+    Vec3d sum;
+    for (int i = 1; i + 1 < count; ++i) {
+      sum = sum + bv_detail::cross(pool[poly[i]].p - pool[poly[0]].p, pool[poly[i + 1]].p - pool[poly[0]].p);
+    }
+    const double area = 0.5 * bv_detail::length(sum);
     m.area += area;
     m.volume += area * height / 3.0;
   }
