@@ -38,12 +38,13 @@ inline bool intersect_obb(const PreparedRay& r, const Obb& box, float t_min, flo
   for (int a = 0; a < 3; ++a) {
     const float o = dot(box.axis[a], f);
     const float d = dot(box.axis[a], r.direction);
-    const float inv = 1.0f / d;
     const float extent = box.half[a] + slack;
-    // Entry plane first: for d = -0 the sign bit still picks the correct side, as in ray_box.h.
+    // Entry plane first: for d = -0 the sign bit still picks the correct side, as in ray_box.h. Divided rather
+    // than multiplied by 1/d: d can be far smaller than the ray's components (a tiny direction almost
+    // perpendicular to the axis), where 1/d would overflow although the distances themselves are finite.
     const float near_plane = std::signbit(d) ? extent : -extent;
-    const float t0 = (near_plane - o) * inv;
-    const float t1 = (-near_plane - o) * inv;
+    const float t0 = (near_plane - o) / d;
+    const float t1 = (-near_plane - o) / d;
     enter = t0 > enter ? t0 : enter;
     leave = t1 < leave ? t1 : leave;
   }
