@@ -145,13 +145,14 @@ class Octree final : public AcceleratorImpl<Octree> {
   bool may_split(const AABB& box, int depth) const {
     return depth < options_.max_depth && max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);
   }
-  /// Splitting helps when some child holds fewer primitives than the cell, unless the children together would hold
-  /// more than twice as many references: stacks of duplicates on a large triangle (every child crossing it gets
-  /// all of them) would otherwise split down to max_depth over the triangle's whole area.
+  /// Splitting helps when some child holds some but not all of the cell's primitives, or when a single child holds
+  /// them all (the cell shrinks around them). When two or more children would each hold all of them (a stack of
+  /// duplicates on a large triangle, or large triangles covering the cell) it cannot: such a stack would otherwise
+  /// split down to max_depth over the triangle's whole area.
   static bool worth_splitting(const std::array<std::size_t, 8>& child_counts, std::size_t count) {
-    std::size_t largest = 0, total = 0;
-    for (const std::size_t c : child_counts) { largest = std::max(largest, c); total += c; }
-    return largest < count && total <= 2 * count;
+    const auto occupied = std::count_if(child_counts.begin(), child_counts.end(), [](std::size_t c) { return c > 0; });
+    return occupied == 1 ||
+           std::any_of(child_counts.begin(), child_counts.end(), [&](std::size_t c) { return c > 0 && c < count; });
   }
   void split(std::uint32_t node, const AABB& box, int depth);
   void insert_into(std::uint32_t node, const AABB& box, int depth, std::uint32_t id);
