@@ -62,5 +62,3 @@ BENCHMARK(BM_OctreeRemoveInsert)->Arg(1)->Arg(64)->Arg(1024)->Unit(benchmark::kM
 
 }  // namespace
 }  // namespace rayaccel
-
-BENCHMARK_MAIN();

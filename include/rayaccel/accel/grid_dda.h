@@ -1,6 +1,6 @@
 // Shared pieces of the spatial subdivisions (uniform grid, two-level grid, octree): the geometry of a regular grid,
 // incremental 3D-DDA stepping (Amanatides & Woo 1987, "A Fast Voxel Traversal Algorithm for Ray Tracing") and the
-// per-cell primitive loop with the shared per-ray mailbox (RayMailbox, segment_traversal.h).
+// per-cell primitive loop with the shared per-ray mailbox (RayMailbox, ray_mailbox.h).
 #pragma once
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "rayaccel/accel/segment_traversal.h"
+#include "rayaccel/accel/ray_mailbox.h"
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"

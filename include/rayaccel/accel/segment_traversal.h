@@ -3,8 +3,12 @@
 // the segment [t0, t1] at t_split, the near child is visited first and the far child is kept on a small stack.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 
+#include "rayaccel/accel/ray_mailbox.h"
 #include "rayaccel/core/hit.h"
 
 namespace rayaccel {
@@ -48,6 +52,15 @@ inline ChildSegments split_segment(std::uint32_t below, std::uint32_t above, int
 
 /// Maximum tree depth a segment traversal supports (the stack holds one entry per level).
 inline constexpr int kMaxSegmentDepth = 64;
+/// Deepest tree the kd-tree and BSP builders make.
+inline constexpr int kMaxSplitTreeDepth = kMaxSegmentDepth - 4;
+
+/// The depth limit of a split-plane tree over n primitives: `requested` when > 0, else pbrt's round(8 + 1.3 log2 n);
+/// at most kMaxSplitTreeDepth.
+inline int split_tree_depth_limit(int requested, std::size_t n) {
+  const int automatic = static_cast<int>(std::lround(8.0 + 1.3 * std::log2(double(n > 1 ? n : 1))));
+  return std::min(requested > 0 ? requested : automatic, kMaxSplitTreeDepth);
+}
 
 /// Result of visiting one node in traverse_segments().
 enum class SegmentVisit { descend, leaf_done, stop };
@@ -76,29 +89,5 @@ inline void traverse_segments(std::uint32_t root, float t0, float t1, const Hit&
     current = stack[--size];
   }
 }
-
-/// A per-ray mailbox (Amanatides & Woo 1987, kept on the stack): remembers the last few primitives tested so a
-/// primitive referenced by several cells is not tested twice. Skipping is always safe: a repeated test of the same
-/// ray can only fail, since hit.t never grows. The disabled form costs nothing.
-template <bool Enabled>
-struct RayMailbox {
-  static constexpr bool seen_before(std::uint32_t) { return false; }
-};
-template <>
-struct RayMailbox<true> {
-  static constexpr int kSize = 8;  // a power of two
-  std::uint32_t ids[kSize] = {kInvalidPrimId, kInvalidPrimId, kInvalidPrimId, kInvalidPrimId,
-                              kInvalidPrimId, kInvalidPrimId, kInvalidPrimId, kInvalidPrimId};
-  int next = 0;
-  /// True when `id` was recorded before; otherwise records it (evicting the oldest) and returns false.
-  bool seen_before(std::uint32_t id) {
-    for (std::uint32_t seen : ids) {
-      if (seen == id) return true;
-    }
-    ids[next] = id;
-    next = (next + 1) & (kSize - 1);
-    return false;
-  }
-};
 
 }  // namespace rayaccel

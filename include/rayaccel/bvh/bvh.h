@@ -1,0 +1,206 @@
+// Bvh<BV>: a bounding volume hierarchy over any BoundingVolume (AABB, sphere, OBB, k-DOP). A builder makes the tree
+// shape from PrimRefs; volumes are then fitted per node; traversal runs over a flat depth-first array of nodes,
+// nearer child first by entry distance, with a fixed-size stack bounded by the build-time depth limit.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+#include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bv/bounding_volume.h"
+#include "rayaccel/bvh/build_tree.h"
+#include "rayaccel/core/scene.h"
+#include "rayaccel/geometry/clip_polygon.h"
+#include "rayaccel/geometry/ray_triangle.h"
+
+namespace rayaccel {
+
+enum class BvhBuilder { binned, sweep, sbvh, lbvh, ploc };
+/// Registry name of a builder: "binned", "sweep", "sbvh", "lbvh", "ploc".
+const char* to_string(BvhBuilder builder);
+
+struct BvhConfig {
+  BvhBuilder builder = BvhBuilder::binned;
+  std::uint32_t max_leaf_size = 4;          ///< most primitives per leaf, 1..255
+  SahCosts costs;                           ///< SAH constants for the builders and the reported cost (1 and 1)
+  std::uint32_t bin_count = 16;             ///< bins per axis of the binned SAH and SBVH builders
+  float max_growth = 1.3f;                  ///< SBVH: references may grow to this multiple of the primitive count
+  float overlap_alpha = 1e-5f;              ///< SBVH: spatial splits are tried when the object split's children
+                                            ///< overlap by more than this fraction of the root's area (Stich's alpha)
+  std::uint32_t ploc_radius = 16;           ///< PLOC: neighbours searched on each side in Morton order
+  std::uint32_t parallel_threshold = 4096;  ///< top-down builders: subtrees at least this large build in parallel
+};
+
+/// Checks a configuration; throws Error naming the bad value.
+void check_config(const BvhConfig& config);
+
+/// Runs the configured builder over the scene's references. SBVH clips triangles to split planes; for other
+/// primitive kinds it makes object splits only.
+BuildTree build_bvh_shape(const Scene& scene, const BvhConfig& config);
+
+/// Room for a triangle clipped by a box's six planes (9 vertices) plus the one spare clip_polygon_to_axis_plane needs.
+using ClippedPolygon = std::array<Vec3, 10>;
+
+/// Clips triangle (a, b, c) to `box` widened by widen_for_clipping() and returns the vertex count of the polygon left
+/// in `out` (0 when the triangle misses the box): the points a volume is fitted to for one SBVH reference.
+int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out);
+
+/// Node of the flat depth-first array. Children of an interior node: the next node and nodes[index].
+template <BoundingVolume BV>
+struct BvhNode {
+  BV volume;             // sizeof(BV) bytes (24 for AABB): encloses every primitive part in the subtree
+  std::uint32_t index;   // 4 bytes: interior: index of the second child; leaf: first primitive slot
+  std::uint32_t count;   // 4 bytes: leaf: number of primitive slots (>= 1); interior: 0
+  bool is_leaf() const { return count > 0; }
+};
+static_assert(sizeof(BvhNode<AabbVolume>) == 32, "an AABB BVH node is 32 bytes: two per cache line");
+
+struct BvhTestAccess;
+
+template <BoundingVolume BV>
+class Bvh final : public AcceleratorImpl<Bvh<BV>> {
+ public:
+  using Node = BvhNode<BV>;
+
+  /// Checks the configuration (throws Error naming a bad value).
+  explicit Bvh(BvhConfig config = {});
+
+  void build(const Scene& scene) override;
+  /// Re-fits every volume bottom-up after Scene::set_vertices() changed positions but not topology. The tree shape
+  /// is kept; SBVH trees then bound whole primitives (their clipped parts no longer apply). Throws Error when the
+  /// scene's primitive count changed or nothing was built.
+  void refit();
+  /// Writes the built tree to a versioned binary file (magic, version, volume kind, primitive count, scene
+  /// fingerprint, counts, checksum). Throws Error naming the file when it cannot be written.
+  void save(const std::filesystem::path& path) const;
+  /// Replaces this tree by the one in `path`, built over `scene`. Throws Error naming the file and the fault for a
+  /// missing, truncated, foreign, wrong-version, wrong-volume, corrupted or wrong-scene file.
+  void load(const std::filesystem::path& path, const Scene& scene);
+
+  std::size_t memory_bytes() const override;
+  std::vector<BuildStatistic> build_statistics() const override { return statistics_; }
+  std::vector<std::string> validate() const override;
+
+  /// The one traversal: closest hit (nearer child first) or, with AnyHit, the first hit found.
+  template <bool AnyHit, class Stats>
+  void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    if (nodes_.empty()) return;
+    if (triangles_.empty()) {
+      trace_nodes<AnyHit, false>(ray, hit, stats);
+    } else {
+      trace_nodes<AnyHit, true>(ray, hit, stats);
+    }
+  }
+
+  const BvhConfig& config() const { return config_; }
+  const std::vector<Node>& nodes() const { return nodes_; }
+  /// Levels of the tree (0 when empty); never more than kBvhMaxDepth.
+  int depth() const { return depth_; }
+
+ private:
+  friend struct BvhTestAccess;
+
+  template <bool AnyHit, bool Triangles, class Stats>
+  void trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+
+  void flatten(const BuildTree& tree);
+  /// Points whose hull encloses the part of a primitive one slot covers; returns their count.
+  int slot_points(std::uint32_t slot, ClippedPolygon& out) const;
+  void copy_triangles();
+  void fit_volumes();
+  void compute_statistics(double build_ms);
+
+  BvhConfig config_;
+  const Scene* scene_ = nullptr;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> prim_ids_;         ///< per slot: the scene's primitive id
+  std::vector<std::array<Vec3, 3>> triangles_;  ///< per slot, triangle scenes only: the vertices, in leaf order
+  std::vector<AABB> part_bounds_;               ///< per slot, SBVH only: box of the part of the primitive covered
+  std::vector<BuildStatistic> statistics_;
+  int depth_ = 0;
+};
+
+/// Far bound for culling volumes. A primitive test's t carries rounding far beyond the slab test's: when the ray
+/// starts near a triangle's plane, the watertight test's t can be off by several 1e-6 relative. Volumes are culled
+/// against hit.t widened by 2^-12 relative, so a primitive whose exact t ties the current hit is still tested and the
+/// result matches brute force.
+inline float bvh_cull_bound(float t) { return t + std::fabs(t) * 0x1p-12f; }
+
+template <BoundingVolume BV>
+template <bool AnyHit, bool Triangles, class Stats>
+void Bvh<BV>::trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+  const typename BV::RayContext context = BV::prepare(ray);
+  const Node* nodes = nodes_.data();
+  float t_entry = ray.t_min;
+  stats.visit_node();
+  if (!nodes[0].volume.intersect(context, ray.t_min, bvh_cull_bound(hit.t), &t_entry)) return;
+  struct Entry {
+    std::uint32_t node;
+    float t_entry;
+  };
+  Entry stack[kBvhMaxDepth];  // one deferred sibling per level at most: depth <= kBvhMaxDepth (checked by validate)
+  int top = 0;
+  std::uint32_t current = 0;
+  for (;;) {
+    const Node& node = nodes[current];
+    if (node.count > 0) {
+      for (std::uint32_t slot = node.index, end = node.index + node.count; slot < end; ++slot) {
+        stats.test_primitive();
+        bool found;
+        if constexpr (Triangles) {
+          const auto& v = triangles_[slot];
+          found = intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], hit);
+        } else {
+          found = scene_->intersect(prim_ids_[slot], ray, hit);
+        }
+        if (AnyHit && found) return;
+      }
+    } else {
+      const std::uint32_t first = current + 1;
+      const std::uint32_t second = node.index;
+      float t_first = ray.t_min, t_second = ray.t_min;
+      const float t_far = bvh_cull_bound(hit.t);
+      const bool hit_first = nodes[first].volume.intersect(context, ray.t_min, t_far, &t_first);
+      const bool hit_second = nodes[second].volume.intersect(context, ray.t_min, t_far, &t_second);
+      if (hit_first && hit_second) {
+        stats.visit_node();
+        if (!AnyHit && t_second < t_first) {
+          stack[top++] = {first, t_first};
+          current = second;
+        } else {
+          stack[top++] = {second, t_second};
+          current = first;
+        }
+        continue;
+      }
+      if (hit_first || hit_second) {
+        stats.visit_node();
+        current = hit_first ? first : second;
+        continue;
+      }
+    }
+    // Pop the nearest deferred node that can still hold a closer hit (hit.t only shrinks while tracing).
+    for (;;) {
+      if (top == 0) return;
+      const Entry e = stack[--top];
+      if (e.t_entry <= bvh_cull_bound(hit.t)) {
+        stats.visit_node();
+        current = e.node;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace rayaccel
+
+// Member definitions of Bvh<BV>, one concern per header.
+#include "rayaccel/bvh/bvh_fit.h"
+#include "rayaccel/bvh/bvh_io.h"
+#include "rayaccel/bvh/bvh_validate.h"

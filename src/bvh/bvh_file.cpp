@@ -1,0 +1,62 @@
+// BVH file helpers: scene fingerprint, FNV-1a checksum, whole-file reads and writes with errors naming the file.
+#include "rayaccel/bvh/bvh_file.h"
+
+#include <fstream>
+#include <string>
+
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+
+namespace {
+
+constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ull;
+constexpr std::uint64_t kFnvPrime = 0x100000001b3ull;
+
+void hash_bytes(std::uint64_t& h, const void* data, std::size_t size) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * kFnvPrime;
+}
+
+}  // namespace
+
+std::uint64_t bvh_checksum(std::span<const std::byte> bytes) {
+  std::uint64_t h = kFnvOffset;
+  hash_bytes(h, bytes.data(), bytes.size());
+  return h;
+}
+
+std::uint64_t bvh_scene_fingerprint(const Scene& scene) {
+  std::uint64_t h = kFnvOffset;
+  const auto kind = static_cast<std::uint32_t>(scene.kind());
+  const std::uint32_t count = scene.primitive_count();
+  hash_bytes(h, &kind, sizeof kind);
+  hash_bytes(h, &count, sizeof count);
+  for (std::uint32_t id = 0; id < count; ++id) {
+    const AABB& b = scene.primitive_bounds(id);
+    const float v[6] = {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z};
+    hash_bytes(h, v, sizeof v);
+  }
+  return h;
+}
+
+std::vector<std::byte> read_bvh_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw Error("bvh file '" + path.string() + "': cannot be opened for reading");
+  const auto size = static_cast<std::size_t>(in.tellg());
+  std::vector<std::byte> bytes(size);
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
+    throw Error("bvh file '" + path.string() + "': read failed");
+  }
+  return bytes;
+}
+
+void write_bvh_file(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw Error("bvh file '" + path.string() + "': cannot be opened for writing");
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw Error("bvh file '" + path.string() + "': write failed");
+}
+
+}  // namespace rayaccel
