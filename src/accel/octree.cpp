@@ -103,8 +103,9 @@ void Octree::split(std::uint32_t node, const AABB& box, int depth) {
       if (overlaps(id, child_box(box, c))) parts[c].push_back(id);
     }
   }
-  // No child would hold fewer primitives: splitting cannot help (e.g. large triangles covering the whole cell).
-  if (std::all_of(parts.begin(), parts.end(), [&](const auto& p) { return p.size() == count; })) return;
+  std::array<std::size_t, 8> counts;
+  for (int c = 0; c < 8; ++c) counts[c] = parts[c].size();
+  if (!worth_splitting(counts, count)) return;
   const std::uint32_t first = new_block();
   lists_[list].clear();
   lists_[list].shrink_to_fit();
@@ -150,20 +151,22 @@ void Octree::insert_into(std::uint32_t node, const AABB& box, int depth, std::ui
 
 void Octree::remove(std::uint32_t id) {
   if (!is_active(id)) throw Error("octree: remove(" + std::to_string(id) + "): the primitive is not in the tree");
-  remove_from(0, root_box_, id);
+  remove_from(0, root_box_, 0, id);
   active_[id] = 0;
   --active_count_;
 }
 
-void Octree::remove_from(std::uint32_t node, const AABB& box, std::uint32_t id) {
+void Octree::remove_from(std::uint32_t node, const AABB& box, int depth, std::uint32_t id) {
   if (!overlaps(id, box)) return;
   if (nodes_[node].first_child == kLeaf) {
     auto& list = lists_[nodes_[node].list];
     list.erase(std::remove(list.begin(), list.end(), id), list.end());
+    // A leaf kept whole because splitting could not help (see worth_splitting) may be worth splitting now.
+    split(node, box, depth);
     return;
   }
   const std::uint32_t first = nodes_[node].first_child;
-  for (int c = 0; c < 8; ++c) remove_from(first + std::uint32_t(c), child_box(box, c), id);
+  for (int c = 0; c < 8; ++c) remove_from(first + std::uint32_t(c), child_box(box, c), depth + 1, id);
   try_merge(node);
 }
 
@@ -276,14 +279,11 @@ void Octree::validate_node(std::uint32_t node, const AABB& box, int depth, std::
     }
   }
   if (list.size() > std::size_t(options_.max_prims) && may_split(box, depth)) {
-    // Allowed only when no child would hold fewer primitives.
-    bool progress = false;
-    for (int c = 0; c < 8 && !progress; ++c) {
-      std::size_t in = 0;
-      for (const std::uint32_t id : list) in += is_active(id) && overlaps(id, child_box(box, c));
-      progress = in < list.size();
+    std::array<std::size_t, 8> counts{};
+    for (int c = 0; c < 8; ++c) {
+      for (const std::uint32_t id : list) counts[c] += is_active(id) && overlaps(id, child_box(box, c));
     }
-    if (progress) problems.push_back(where + "leaf over max_prims should have split");
+    if (worth_splitting(counts, list.size())) problems.push_back(where + "leaf over max_prims should have split");
   }
 }
 

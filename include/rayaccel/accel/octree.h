@@ -4,6 +4,8 @@
 // proportional to depth: leaves split past max_prims and merge back when their siblings empty out.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -18,8 +20,9 @@
 namespace rayaccel {
 
 struct OctreeOptions {
-  int max_depth = 10;   ///< levels below the root at most (1..20)
-  int max_prims = 8;    ///< a leaf with more primitives splits (unless at max_depth or no child would get fewer)
+  int max_depth = 13;   ///< levels below the root at most (1..20); 13 resolves a 1/500 object (teapot in a stadium)
+  int max_prims = 8;    ///< a leaf with more primitives splits (unless at max_depth or splitting cannot help, see
+                        ///< Octree::worth_splitting)
   bool exact = true;    ///< triangles: reference only leaves the triangle overlaps (SAT)
   bool mailbox = true;  ///< skip primitives this ray tested in a recent leaf
   double pad = 0.0;     ///< the root box is the scene box grown by pad * its extent on each side (room to insert)
@@ -142,9 +145,18 @@ class Octree final : public AcceleratorImpl<Octree> {
   bool may_split(const AABB& box, int depth) const {
     return depth < options_.max_depth && max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);
   }
+  /// Splitting helps when some child holds some but not all of the cell's primitives, or when a single child holds
+  /// them all (the cell shrinks around them). When two or more children would each hold all of them (a stack of
+  /// duplicates on a large triangle, or large triangles covering the cell) it cannot: such a stack would otherwise
+  /// split down to max_depth over the triangle's whole area.
+  static bool worth_splitting(const std::array<std::size_t, 8>& child_counts, std::size_t count) {
+    const auto occupied = std::count_if(child_counts.begin(), child_counts.end(), [](std::size_t c) { return c > 0; });
+    return occupied == 1 ||
+           std::any_of(child_counts.begin(), child_counts.end(), [&](std::size_t c) { return c > 0 && c < count; });
+  }
   void split(std::uint32_t node, const AABB& box, int depth);
   void insert_into(std::uint32_t node, const AABB& box, int depth, std::uint32_t id);
-  void remove_from(std::uint32_t node, const AABB& box, std::uint32_t id);
+  void remove_from(std::uint32_t node, const AABB& box, int depth, std::uint32_t id);
   void try_merge(std::uint32_t node);
   std::uint32_t new_list();
   std::uint32_t new_block();

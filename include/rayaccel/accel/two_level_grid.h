@@ -22,7 +22,7 @@ struct TwoLevelGridOptions {
   bool mailbox = true;             ///< skip primitives this ray tested in a recent cell
   int max_resolution = 512;        ///< top cells per axis at most
   std::uint64_t max_cells = 1u << 22;  ///< top cells at most
-  int max_leaf_resolution = 64;    ///< leaf cells per axis of one top cell at most (<= 255)
+  int max_leaf_resolution = 128;   ///< leaf cells per axis of one top cell at most (<= 255)
 };
 
 /// The second level of one non-empty top cell.
