@@ -106,12 +106,16 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
  private:
   friend struct BvhTestAccess;
 
+  /// Flattened: every volume and triangle test is inlined into the loop (GCC otherwise keeps the slab test out of
+  /// line, a call per child visited).
   template <bool AnyHit, bool Triangles, class Stats>
-  void trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  [[gnu::flatten]] void trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const;
 
   void flatten(const BuildTree& tree);
   /// Points whose hull encloses the part of a primitive one slot covers; returns their count.
   int slot_points(std::uint32_t slot, ClippedPolygon& out) const;
+  /// Box of the hull points of slots [begin, end).
+  AABB slot_box(std::uint32_t begin, std::uint32_t end) const;
   void copy_triangles();
   void fit_volumes();
   void compute_statistics(double build_ms);

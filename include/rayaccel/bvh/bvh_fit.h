@@ -92,6 +92,22 @@ int Bvh<BV>::slot_points(std::uint32_t slot, ClippedPolygon& out) const {
 }
 
 template <BoundingVolume BV>
+AABB Bvh<BV>::slot_box(std::uint32_t begin, std::uint32_t end) const {
+  AABB box;
+  if (part_bounds_.empty()) {
+    // The box of a primitive's hull points is its bounds (triangle vertices, or the corners of the box).
+    for (std::uint32_t s = begin; s < end; ++s) box.extend(scene_->primitive_bounds(prim_ids_[s]));
+    return box;
+  }
+  ClippedPolygon points;
+  for (std::uint32_t s = begin; s < end; ++s) {
+    const int n = slot_points(s, points);
+    for (int k = 0; k < n; ++k) box.extend(points[k]);
+  }
+  return box;
+}
+
+template <BoundingVolume BV>
 void Bvh<BV>::fit_volumes() {
   const auto node_count = nodes_.size();
   if (node_count == 0) return;
@@ -100,13 +116,7 @@ void Bvh<BV>::fit_volumes() {
     for (std::size_t i = node_count; i-- > 0;) {
       Node& node = nodes_[i];
       if (node.is_leaf()) {
-        AABB box;
-        ClippedPolygon points;
-        for (std::uint32_t s = node.index; s < node.index + node.count; ++s) {
-          const int n = slot_points(s, points);
-          for (int k = 0; k < n; ++k) box.extend(points[k]);
-        }
-        node.volume.box = box;
+        node.volume.box = slot_box(node.index, node.index + node.count);
       } else {
         node.volume.box = merge(nodes_[i + 1].volume.box, nodes_[node.index].volume.box);
       }
@@ -168,14 +178,10 @@ void Bvh<BV>::compute_statistics(double build_ms) {
   if (!nodes_.empty()) {
     // Box of each node's contents, to compare the fitted volume's area with.
     std::vector<AABB> content(nodes_.size());
-    ClippedPolygon points;
     for (std::size_t i = nodes_.size(); i-- > 0;) {
       const Node& node = nodes_[i];
       if (node.is_leaf()) {
-        for (std::uint32_t s = node.index; s < node.index + node.count; ++s) {
-          const int n = slot_points(s, points);
-          for (int k = 0; k < n; ++k) content[i].extend(points[k]);
-        }
+        content[i] = slot_box(node.index, node.index + node.count);
       } else {
         content[i] = merge(content[i + 1], content[node.index]);
       }
