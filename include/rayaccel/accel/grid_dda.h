@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "rayaccel/accel/ray_mailbox.h"
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
@@ -105,34 +106,14 @@ class GridDda {
   float t_next_[3];
 };
 
-/// The last few primitive ids tested by one ray, kept on the stack (thread-safe, no shared state). Testing a
-/// primitive twice is harmless, so an evicted id only costs a repeated test.
-class RayMailbox {
- public:
-  /// True when `id` was tested recently; otherwise records it and returns false.
-  bool seen(std::uint32_t id) {
-    for (std::uint32_t slot : ids_) {
-      if (slot == id) return true;
-    }
-    ids_[next_++ & (kSize - 1)] = id;
-    return false;
-  }
-
- private:
-  static constexpr unsigned kSize = 8;
-  std::uint32_t ids_[kSize] = {kInvalidPrimId, kInvalidPrimId, kInvalidPrimId, kInvalidPrimId,
-                               kInvalidPrimId, kInvalidPrimId, kInvalidPrimId, kInvalidPrimId};
-  unsigned next_ = 0;
-};
-
 /// Tests the primitives [begin, end) of one cell, skipping mailboxed ones when `use_mailbox`. Returns true when an
 /// any-hit query may stop.
 template <bool AnyHit, class Stats>
 inline bool test_cell_primitives(const Scene& scene, const std::uint32_t* begin, const std::uint32_t* end,
-                                 bool use_mailbox, RayMailbox& mailbox, const PreparedRay& ray, Hit& hit,
+                                 bool use_mailbox, RayMailbox<true>& mailbox, const PreparedRay& ray, Hit& hit,
                                  Stats& stats) {
   for (const std::uint32_t* p = begin; p != end; ++p) {
-    if (use_mailbox && mailbox.seen(*p)) continue;
+    if (use_mailbox && mailbox.seen_before(*p)) continue;
     stats.test_primitive();
     if (scene.intersect(*p, ray, hit) && AnyHit) return true;
   }

@@ -49,7 +49,7 @@ class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
     float t0 = ray.t_min, t1 = ray.t_max;
     if (!clip_ray_to_box(ray, top_.box, t0, t1)) return;
     GridDda top(ray, top_, t0);
-    RayMailbox mailbox;
+    RayMailbox<true> mailbox;
     for (;;) {
       stats.visit_node();
       const std::uint32_t s = top_cells_[top_.linear(top.cell(0), top.cell(1), top.cell(2))];
@@ -65,7 +65,7 @@ class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
 
   /// Walks one second-level grid; true when the whole trace may stop (any-hit found, or a hit in a leaf cell).
   template <bool AnyHit, class Stats>
-  bool trace_subgrid(const SubGrid& g, const PreparedRay& ray, Hit& hit, RayMailbox& mailbox, Stats& stats) const {
+  bool trace_subgrid(const SubGrid& g, const PreparedRay& ray, Hit& hit, RayMailbox<true>& mailbox, Stats& stats) const {
     float s0 = ray.t_min, s1 = hit.t;
     if (!clip_ray_to_box(ray, g.box, s0, s1)) return false;
     const GridFrame f = frame_of(g);

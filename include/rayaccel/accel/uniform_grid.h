@@ -76,7 +76,7 @@ class UniformGrid final : public AcceleratorImpl<UniformGrid> {
     float t0 = ray.t_min, t1 = ray.t_max;
     if (!clip_ray_to_box(ray, frame_.box, t0, t1)) return;
     GridDda dda(ray, frame_, t0);
-    RayMailbox mailbox;
+    RayMailbox<true> mailbox;
     const std::uint32_t* ids = lists_.ids.data();
     for (;;) {
       stats.visit_node();

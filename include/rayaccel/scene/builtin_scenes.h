@@ -21,7 +21,17 @@ struct BuiltinSceneInfo {
 /// Every built-in scene with its parameters.
 const std::vector<BuiltinSceneInfo>& builtin_scenes();
 
-/// Generates a built-in scene: `name` plus parameters (unknown names or keys throw Error listing the known ones).
+/// Generates a built-in scene: `name` plus parameters; keys not given take their defaults. Unknown names or keys
+/// throw Error listing the known ones; a value that is not an integer / finite number in the key's range throws
+/// Error naming the key, the value and the range. The scene is named after `name`.
+///   default         seed                                    ~13.5k triangles (README's main scene)
+///   sphereflake     level (0..7, 4), radius                 spheres: sum of 9^i, i <= level
+///   mountain        level (0..11, 7), size, height, roughness, seed   2 * 4^level triangles, Y up
+///   sierpinski      level (0..9, 6), edge                   4^(level+1) triangles
+///   teapot_stadium  segments (1024), tube (12), stadium     2 * segments * tube knot triangles first, then 1,568
+///   slivers         count (10000), aspect, seed             length 2, width 2 / aspect
+///   soup            count (10000), size, seed               independent random triangles in [-1, 1]^3
+///   sphere          level (0..8, 4), radius                 20 * 4^level triangles, closed, shared vertices
 Scene make_builtin_scene(std::string_view name, const std::map<std::string, std::string>& params = {});
 
 /// The scene the README's main command uses: a small composition that exercises every structure.

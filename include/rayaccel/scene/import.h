@@ -15,6 +15,11 @@ namespace rayaccel {
 /// Reads a mesh file. Throws Error naming the file and the fault: unreadable, not a mesh, no triangles, index out
 /// of range. NaN/Inf vertices are kept (the Scene marks their triangles invalid, see scene.h); points and lines
 /// are skipped.
+/// - assimp runs with no post-processing step at all, so faces keep their file order; polygons are then
+///   fan-triangulated (0, i, i+1) here. A file with several meshes is concatenated in scene-graph order: the node
+///   tree depth-first, parents before children, each node's meshes in its own order, with the accumulated node
+///   transforms applied (a mesh instanced by two nodes appears twice).
+/// - No native reader is needed: assimp 5.2 reads the 16 MB binary dragon.ply (871,414 triangles) in about 0.2 s.
 TriangleMesh import_mesh(const std::filesystem::path& path);
 
 /// A scene from a spec: "builtin:NAME[:key=value,...]" (see builtin_scenes.h) or a mesh file path. The scene is

@@ -1,0 +1,131 @@
+// Mesh import through assimp with no post-processing (ids stay in file order; polygons are fan-triangulated here)
+// and scene specs ("builtin:..." or a mesh path).
+#include "rayaccel/scene/import.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "rayaccel/core/error.h"
+#include "rayaccel/scene/builtin_scenes.h"
+
+namespace rayaccel {
+
+namespace {
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+/// Fails with a clear message when the file is missing, not a regular file, or cannot be opened.
+void check_readable(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw Error("cannot read mesh file " + quoted(path) + ": no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw Error("cannot read mesh file " + quoted(path) + ": not a regular file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read mesh file " + quoted(path) + ": cannot open it (permissions?)");
+}
+
+Vec3 transform_point(const aiMatrix4x4& m, const aiVector3D& p) {
+  const aiVector3D q = m * p;
+  return {q.x, q.y, q.z};
+}
+
+/// Appends one assimp mesh, its vertices mapped by `transform`; faces of 1 or 2 indices (points, lines) are
+/// skipped and polygons fan-triangulated as (0, i, i+1).
+void append_assimp_mesh(TriangleMesh& out, const aiScene& scene, unsigned mesh_index, const aiMatrix4x4& transform,
+                        const std::filesystem::path& path) {
+  const aiMesh& mesh = *scene.mMeshes[mesh_index];
+  const auto base = static_cast<std::uint32_t>(out.vertices.size());
+  out.vertices.reserve(out.vertices.size() + mesh.mNumVertices);
+  for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
+    out.vertices.push_back(transform_point(transform, mesh.mVertices[i]));
+  }
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    for (unsigned k = 0; k < face.mNumIndices; ++k) {
+      if (face.mIndices[k] >= mesh.mNumVertices) {
+        const std::string name = mesh.mName.length > 0 ? std::string(" '") + mesh.mName.C_Str() + "'" : "";
+        throw Error("mesh file " + quoted(path) + ": face " + std::to_string(f) + " of mesh " +
+                    std::to_string(mesh_index) + name + " uses vertex index " + std::to_string(face.mIndices[k]) +
+                    ", out of range (the mesh has " + std::to_string(mesh.mNumVertices) + " vertices)");
+      }
+    }
+    for (unsigned k = 1; k + 1 < face.mNumIndices; ++k) {
+      out.triangles.push_back({base + face.mIndices[0], base + face.mIndices[k], base + face.mIndices[k + 1]});
+    }
+  }
+}
+
+/// Depth-first, pre-order walk of the node graph; each node's meshes in the node's order, with the accumulated
+/// node transform applied (a mesh used by several nodes is appended once per use).
+void append_node(TriangleMesh& out, const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
+                 const std::filesystem::path& path) {
+  const aiMatrix4x4 transform = parent * node.mTransformation;
+  for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+    if (node.mMeshes[i] < scene.mNumMeshes) append_assimp_mesh(out, scene, node.mMeshes[i], transform, path);
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c) append_node(out, scene, *node.mChildren[c], transform, path);
+}
+
+/// "key=value,key=value" -> map; throws Error naming the spec for a malformed or repeated item.
+std::map<std::string, std::string> parse_params(std::string_view spec, std::string_view text) {
+  std::map<std::string, std::string> params;
+  while (!text.empty()) {
+    const auto comma = text.find(',');
+    const std::string_view item = text.substr(0, comma);
+    text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
+    if (item.empty()) continue;
+    const auto eq = item.find('=');
+    if (eq == std::string_view::npos || eq == 0) {
+      throw Error("scene spec '" + std::string(spec) + "': '" + std::string(item) + "' is not of the form key=value");
+    }
+    const std::string key(item.substr(0, eq));
+    if (!params.emplace(key, std::string(item.substr(eq + 1))).second) {
+      throw Error("scene spec '" + std::string(spec) + "': parameter '" + key + "' is given twice");
+    }
+  }
+  return params;
+}
+
+}  // namespace
+
+TriangleMesh import_mesh(const std::filesystem::path& path) {
+  check_readable(path);
+  Assimp::Importer importer;
+  // No post-processing at all: steps such as Triangulate, SortByPType, JoinIdenticalVertices or FindDegenerates
+  // would reorder, split, weld or drop faces and break "primitive id = triangle index in file order".
+  const aiScene* scene = importer.ReadFile(path.string(), 0);
+  if (!scene) {
+    throw Error("mesh file " + quoted(path) + " is not a mesh assimp can read: " + importer.GetErrorString());
+  }
+  TriangleMesh mesh;
+  if (scene->mRootNode) {
+    append_node(mesh, *scene, *scene->mRootNode, aiMatrix4x4{}, path);
+  } else {
+    for (unsigned i = 0; i < scene->mNumMeshes; ++i) append_assimp_mesh(mesh, *scene, i, aiMatrix4x4{}, path);
+  }
+  if (mesh.triangles.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
+  return mesh;
+}
+
+Scene load_scene(std::string_view spec) {
+  constexpr std::string_view kPrefix = "builtin:";
+  if (spec.substr(0, kPrefix.size()) == kPrefix) {
+    const std::string_view rest = spec.substr(kPrefix.size());
+    const auto colon = rest.find(':');
+    const std::string_view name = rest.substr(0, colon);
+    const auto params = colon == std::string_view::npos ? std::map<std::string, std::string>{}
+                                                        : parse_params(spec, rest.substr(colon + 1));
+    return make_builtin_scene(name, params);
+  }
+  if (spec.empty()) throw Error("empty scene spec: give a mesh file or builtin:NAME");
+  const std::filesystem::path path(spec);
+  return Scene::from_mesh(import_mesh(path), path.stem().string());
+}
+
+}  // namespace rayaccel
