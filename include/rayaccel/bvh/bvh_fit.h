@@ -76,7 +76,9 @@ void Bvh<BV>::copy_triangles() {
   triangles_.clear();
   if (scene_->kind() != PrimitiveKind::triangles) return;
   triangles_.resize(prim_ids_.size());
-  for (std::size_t i = 0; i < prim_ids_.size(); ++i) triangles_[i] = scene_->triangle(prim_ids_[i]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prim_ids_.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) triangles_[i] = scene_->triangle(prim_ids_[i]);
+  });
 }
 
 template <BoundingVolume BV>
@@ -112,14 +114,17 @@ void Bvh<BV>::fit_volumes() {
   const auto node_count = nodes_.size();
   if (node_count == 0) return;
   if constexpr (std::is_same_v<BV, AabbVolume>) {
-    // Children follow their parent in the array, so one backward pass sees every child before its parent.
+    // Leaves in parallel; then, as children follow their parent in the array, one backward pass merges every
+    // child into its parent.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, node_count, 4096), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        Node& node = nodes_[i];
+        if (node.is_leaf()) node.volume.box = slot_box(node.index, node.index + node.count);
+      }
+    });
     for (std::size_t i = node_count; i-- > 0;) {
       Node& node = nodes_[i];
-      if (node.is_leaf()) {
-        node.volume.box = slot_box(node.index, node.index + node.count);
-      } else {
-        node.volume.box = merge(nodes_[i + 1].volume.box, nodes_[node.index].volume.box);
-      }
+      if (!node.is_leaf()) node.volume.box = merge(nodes_[i + 1].volume.box, nodes_[node.index].volume.box);
     }
   } else {
     // Every subtree's slots are one contiguous range (leaves are laid out depth-first), so each node is fitted
@@ -176,11 +181,13 @@ void Bvh<BV>::compute_statistics(double build_ms) {
   double sah = 0.0, tightness = 0.0;
   std::size_t tightness_count = 0;
   if (!nodes_.empty()) {
-    // Box of each node's contents, to compare the fitted volume's area with.
+    // Box of each node's contents, to compare the fitted volume's area with (an AABB volume is that box).
     std::vector<AABB> content(nodes_.size());
     for (std::size_t i = nodes_.size(); i-- > 0;) {
       const Node& node = nodes_[i];
-      if (node.is_leaf()) {
+      if (std::is_same_v<BV, AabbVolume>) {
+        content[i] = node.volume.bounds();
+      } else if (node.is_leaf()) {
         content[i] = slot_box(node.index, node.index + node.count);
       } else {
         content[i] = merge(content[i + 1], content[node.index]);
