@@ -126,6 +126,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   std::vector<std::uint32_t> prim_ids_;         ///< per slot: the scene's primitive id
   std::vector<std::array<Vec3, 3>> triangles_;  ///< per slot, triangle scenes only: the vertices, in leaf order
   std::vector<AABB> part_bounds_;               ///< per slot, SBVH only: box of the part of the primitive covered
+  bool spatial_splits_ = false;                 ///< a primitive may be referenced by several leaves (SBVH)
   std::vector<BuildStatistic> statistics_;
   int depth_ = 0;
 };

@@ -36,6 +36,7 @@ void Bvh<BV>::flatten(const BuildTree& tree) {
   nodes_.clear();
   prim_ids_.clear();
   part_bounds_.clear();
+  spatial_splits_ = tree.spatial_splits;
   depth_ = 0;
   if (tree.nodes.empty()) return;
   nodes_.reserve(tree.nodes.size());
