@@ -15,6 +15,7 @@
 #include "rayaccel/bv/aabb_volume.h"
 #include "rayaccel/bv/bounding_volume.h"
 #include "rayaccel/bvh/build_tree.h"
+#include "rayaccel/bvh/sbvh_builder.h"
 #include "rayaccel/core/scene.h"
 #include "rayaccel/geometry/clip_polygon.h"
 #include "rayaccel/geometry/ray_triangle.h"
@@ -43,13 +44,6 @@ void check_config(const BvhConfig& config);
 /// Runs the configured builder over the scene's references. SBVH clips triangles to split planes; for other
 /// primitive kinds it makes object splits only.
 BuildTree build_bvh_shape(const Scene& scene, const BvhConfig& config);
-
-/// Room for a triangle clipped by a box's six planes (9 vertices) plus the one spare clip_polygon_to_axis_plane needs.
-using ClippedPolygon = std::array<Vec3, 10>;
-
-/// Clips triangle (a, b, c) to `box` widened by widen_for_clipping() and returns the vertex count of the polygon left
-/// in `out` (0 when the triangle misses the box): the points a volume is fitted to for one SBVH reference.
-int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out);
 
 /// Node of the flat depth-first array. Children of an interior node: the next node and nodes[index].
 template <BoundingVolume BV>
