@@ -4,6 +4,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/two_level_grid.h"
 #include "rayaccel/accel/uniform_grid.h"
+#include "rayaccel/wide/wide_bvh.h"
 #include "rayaccel/bvh/bvh_registry.h"
 
 namespace rayaccel {
@@ -14,6 +15,7 @@ void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_two_level_grid(registry);
   register_kd_tree(registry);
   register_bvh(registry);
+  wide::register_wide_bvh(registry);
 }
 
 }  // namespace rayaccel

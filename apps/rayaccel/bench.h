@@ -1,0 +1,97 @@
+// Internals of `rayaccel bench` shared by its three files: the workloads, the per-structure results, the check
+// against a reference (bench_check.cpp) and the table and JSON output (bench_report.cpp).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/brute_force.h"
+#include "rayaccel/core/scene.h"
+
+namespace rayaccel::cli {
+
+enum class RayKind { primary, diffuse, shadow };
+const char* to_string(RayKind kind);
+
+/// One set of rays traced the same way for every structure: intersect() for primary and diffuse, occluded() for
+/// shadow rays.
+struct Workload {
+  RayKind kind = RayKind::primary;
+  std::vector<Ray> rays;
+  bool any_hit() const { return kind == RayKind::shadow; }
+};
+
+struct KindResult {
+  RayKind kind = RayKind::primary;
+  std::size_t rays = 0;
+  std::vector<double> trace_ms;
+  double mrays_s_median = 0.0;
+  double nodes_per_ray = -1.0;  ///< -1 when the structure reports no statistics (Embree)
+  double prims_per_ray = -1.0;
+  std::size_t checked = 0;              ///< rays compared against the reference
+  std::size_t mismatches = 0;           ///< rays where the structure disagrees with the oracle
+  std::size_t reference_differences = 0;  ///< Embree disagreed but the structure matches brute force
+};
+
+struct StructureResult {
+  std::string spec;
+  bool is_embree = false;
+  std::string failure;  ///< build or trace error; the row has no figures then
+  std::vector<double> build_ms;
+  double build_ms_median = 0.0;
+  std::size_t memory_bytes = 0;
+  std::vector<BuildStatistic> build_statistics;
+  std::vector<std::string> validate_problems;
+  std::vector<KindResult> kinds;
+  std::size_t mismatches() const;
+  bool failed() const { return !failure.empty() || !validate_problems.empty() || mismatches() > 0; }
+};
+
+struct SceneReport {
+  std::string spec;
+  std::string name;
+  std::string kind;
+  std::uint32_t primitives = 0;
+  int threads = 0;
+  int resolution = 0;
+  std::string reference;  ///< "embree (all rays)" or "brute_force (sample of N rays)"
+  std::vector<StructureResult> rows;
+};
+
+/// The reference every structure is checked against before timing: Embree's answers for every ray when it is
+/// available (disagreements are then re-checked with brute force, the oracle), else brute force on a sample.
+class ReferenceCheck {
+ public:
+  /// `embree` may be null. `sample_size` bounds the brute-force sample per workload.
+  ReferenceCheck(const Scene& scene, const std::vector<Workload>& workloads, const Accelerator* embree,
+                 std::size_t sample_size);
+  /// Compares `accel` with the reference on every workload; fills checked / mismatches / reference_differences
+  /// of `kinds` (one per workload) and prints the first mismatches to stderr.
+  void check(const Accelerator& accel, std::vector<KindResult>& kinds) const;
+  std::string description() const;
+
+ private:
+  struct Answers {
+    std::vector<std::size_t> indices;  ///< rays with a reference answer
+    std::vector<Hit> hits;             ///< per index (closest-hit workloads)
+    std::vector<std::uint8_t> occluded;  ///< per index (any-hit workloads)
+  };
+  const Scene& scene_;
+  const std::vector<Workload>& workloads_;
+  bool from_embree_ = false;
+  std::size_t sample_size_ = 0;
+  BruteForce oracle_;
+  std::vector<Answers> answers_;
+};
+
+/// The aligned per-scene table on stdout, with ratios to the Embree row when there is one.
+void print_table(const SceneReport& report);
+nlohmann::json to_json(const SceneReport& report);
+
+}  // namespace rayaccel::cli

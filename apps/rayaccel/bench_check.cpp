@@ -1,0 +1,123 @@
+// The check `rayaccel bench` runs before timing anything: every structure's answers against Embree for every ray
+// (a disagreement is then settled by brute force, the oracle) or, without Embree, against brute force on a sample.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "bench.h"
+
+namespace rayaccel::cli {
+
+namespace {
+
+constexpr double kEmbreeTolerance = 1e-4;  // relative t difference allowed between Embree's kernel and ours
+constexpr double kOracleTolerance = 1e-6;  // same kernel: only ties in t may pick another primitive
+constexpr std::size_t kMaxArbitrations = 1000;  // brute-force re-checks per structure and workload
+constexpr std::size_t kExamples = 5;
+
+/// Same answer: both miss, or both hit the same primitive or at t within a relative tolerance (a tie in t).
+bool same_hit(const Hit& got, const Hit& want, double tolerance) {
+  if (got.found() != want.found()) return false;
+  if (!got.found() || got.prim_id == want.prim_id) return true;
+  const double diff = std::abs(double(got.t) - double(want.t));
+  return diff <= tolerance * std::abs(double(want.t));
+}
+
+std::string describe(const Hit& h) {
+  return h.found() ? fmt::format("t={:.9g} prim={}", h.t, h.prim_id) : std::string("miss");
+}
+
+std::string describe(const Ray& r) {
+  return fmt::format("o=({:.9g},{:.9g},{:.9g}) d=({:.9g},{:.9g},{:.9g}) t=[{:.9g},{:.9g}]", r.origin.x, r.origin.y,
+                     r.origin.z, r.direction.x, r.direction.y, r.direction.z, r.t_min, r.t_max);
+}
+
+}  // namespace
+
+ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& workloads, const Accelerator* embree,
+                               std::size_t sample_size)
+    : scene_(scene), workloads_(workloads), from_embree_(embree != nullptr), sample_size_(sample_size) {
+  oracle_.build(scene);
+  for (const Workload& w : workloads) {
+    Answers a;
+    const std::size_t n = w.rays.size();
+    const std::size_t count = from_embree_ ? n : std::min(n, sample_size);
+    a.indices.resize(count);
+    for (std::size_t i = 0; i < count; ++i) a.indices[i] = count == n ? i : i * n / count;
+    std::vector<Ray> rays(count);
+    for (std::size_t i = 0; i < count; ++i) rays[i] = w.rays[a.indices[i]];
+    const Accelerator& reference = from_embree_ ? *embree : static_cast<const Accelerator&>(oracle_);
+    if (w.any_hit()) {
+      a.occluded.resize(count);
+      reference.occluded(rays, a.occluded);
+    } else {
+      a.hits.resize(count);
+      reference.intersect(rays, a.hits);
+    }
+    answers_.push_back(std::move(a));
+  }
+}
+
+std::string ReferenceCheck::description() const {
+  return from_embree_ ? std::string("embree on every ray, disagreements settled by brute force")
+                      : fmt::format("brute force on a sample of up to {} rays per ray kind", sample_size_);
+}
+
+void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& kinds) const {
+  for (std::size_t k = 0; k < workloads_.size(); ++k) {
+    const Workload& w = workloads_[k];
+    const Answers& a = answers_[k];
+    KindResult& result = kinds[k];
+    std::vector<Ray> rays(a.indices.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) rays[i] = w.rays[a.indices[i]];
+    std::vector<Hit> hits(w.any_hit() ? 0 : rays.size());
+    std::vector<std::uint8_t> occluded(w.any_hit() ? rays.size() : 0);
+    if (w.any_hit()) {
+      accel.occluded(rays, occluded);
+    } else {
+      accel.intersect(rays, hits);
+    }
+    result.checked = rays.size();
+    std::size_t arbitrations = 0, examples = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const double tolerance = from_embree_ ? kEmbreeTolerance : kOracleTolerance;
+      const bool agrees = w.any_hit() ? occluded[i] == a.occluded[i] : same_hit(hits[i], a.hits[i], tolerance);
+      if (agrees) continue;
+      bool mismatch = true;
+      std::string oracle_text;
+      if (from_embree_ && arbitrations < kMaxArbitrations) {
+        ++arbitrations;
+        if (w.any_hit()) {
+          const bool truth = oracle_.occluded(rays[i]);
+          mismatch = (occluded[i] != 0) != truth;
+          oracle_text = truth ? "occluded" : "not occluded";
+        } else {
+          const Hit truth = oracle_.intersect(rays[i]);
+          mismatch = !same_hit(hits[i], truth, kOracleTolerance);
+          oracle_text = describe(truth);
+        }
+      }
+      if (!mismatch) {
+        ++result.reference_differences;
+        continue;
+      }
+      ++result.mismatches;
+      if (examples++ < kExamples) {
+        const std::string got = w.any_hit() ? (occluded[i] ? "occluded" : "not occluded") : describe(hits[i]);
+        const std::string want =
+            w.any_hit() ? (a.occluded[i] ? "occluded" : "not occluded") : describe(a.hits[i]);
+        std::cerr << fmt::format("MISMATCH {} on {} {} ray {}: got {}, reference {}{}; ray {}\n", accel.spec(),
+                                 scene_.name(), to_string(w.kind), a.indices[i], got, want,
+                                 oracle_text.empty() ? "" : ", brute force " + oracle_text, describe(rays[i]));
+      }
+    }
+    if (result.mismatches > 0) {
+      std::cerr << fmt::format("MISMATCH {} on {} {}: {} of {} rays disagree with the reference\n", accel.spec(),
+                               scene_.name(), to_string(w.kind), result.mismatches, result.checked);
+    }
+  }
+}
+
+}  // namespace rayaccel::cli

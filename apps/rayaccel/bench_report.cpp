@@ -1,0 +1,168 @@
+// Output of `rayaccel bench`: an aligned table per scene (ratios to Embree when it was measured) and JSON.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bench.h"
+
+namespace rayaccel::cli {
+
+const char* to_string(RayKind kind) {
+  switch (kind) {
+    case RayKind::primary: return "primary";
+    case RayKind::diffuse: return "diffuse";
+    case RayKind::shadow: return "shadow";
+  }
+  return "?";
+}
+
+std::size_t StructureResult::mismatches() const {
+  std::size_t n = 0;
+  for (const auto& k : kinds) n += k.mismatches;
+  return n;
+}
+
+namespace {
+
+const StructureResult* embree_row(const SceneReport& report) {
+  for (const auto& row : report.rows) {
+    if (row.is_embree && row.failure.empty()) return &row;
+  }
+  return nullptr;
+}
+
+/// Two decimals, or three significant digits for small values (brute force runs at thousandths of a Mray/s).
+std::string number(double value) {
+  return value != 0.0 && std::abs(value) < 1.0 ? fmt::format("{:.3g}", value) : fmt::format("{:.2f}", value);
+}
+
+/// "value" or "value (ratio x)" where ratio = value / reference.
+std::string with_ratio(double value, const double* reference) {
+  std::string text = number(value);
+  if (reference && *reference > 0.0) text += fmt::format(" ({:.3g}x)", value / *reference);
+  return text;
+}
+
+void print_aligned(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> widths;
+  for (const auto& row : rows) {
+    widths.resize(std::max(widths.size(), row.size()), 0);
+    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+  }
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    std::string line;
+    for (std::size_t c = 0; c < rows[r].size(); ++c) {
+      if (c == 0) {
+        line += fmt::format("{:<{}}", rows[r][c], widths[c]);
+      } else {
+        line += fmt::format("  {:>{}}", rows[r][c], widths[c]);
+      }
+    }
+    fmt::print("{}\n", line);
+    if (r == 0) fmt::print("{}\n", std::string(line.size(), '-'));
+  }
+}
+
+}  // namespace
+
+void print_table(const SceneReport& report) {
+  const StructureResult* embree = embree_row(report);
+  fmt::print("\nScene {} ({} {}, {} threads, {}x{} camera rays; reference: {})\n", report.name, report.primitives,
+             report.kind, report.threads, report.resolution, report.resolution, report.reference);
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> header = {"structure", "build ms", "memory MB", "B/prim"};
+  if (!report.rows.empty()) {
+    for (const auto& k : report.rows.front().kinds) {
+      header.push_back(fmt::format("{} Mrays/s", to_string(k.kind)));
+    }
+    for (const auto& k : report.rows.front().kinds) header.push_back(fmt::format("{} nodes/prims", to_string(k.kind)));
+  }
+  header.push_back("mismatches");
+  if (embree) fmt::print("(ratios in parentheses: this structure / embree)\n");
+  rows.push_back(header);
+  for (const auto& row : report.rows) {
+    std::vector<std::string> cells = {row.spec};
+    if (!row.failure.empty()) {
+      cells.push_back("FAILED: " + row.failure);
+      rows.push_back(cells);
+      continue;
+    }
+    const bool ratio = embree && &row != embree;
+    const double embree_build = embree ? embree->build_ms_median : 0.0;
+    const double embree_memory = embree ? static_cast<double>(embree->memory_bytes) : 0.0;
+    cells.push_back(with_ratio(row.build_ms_median, ratio ? &embree_build : nullptr));
+    const double memory = static_cast<double>(row.memory_bytes);
+    cells.push_back(number(memory / (1024.0 * 1024.0)) +
+                    (ratio && embree_memory > 0.0 ? fmt::format(" ({:.3g}x)", memory / embree_memory) : ""));
+    cells.push_back(fmt::format("{:.1f}", report.primitives ? memory / report.primitives : 0.0));
+    for (std::size_t k = 0; k < row.kinds.size(); ++k) {
+      const double* reference = ratio && k < embree->kinds.size() ? &embree->kinds[k].mrays_s_median : nullptr;
+      cells.push_back(with_ratio(row.kinds[k].mrays_s_median, reference));
+    }
+    for (const auto& k : row.kinds) {
+      cells.push_back(k.nodes_per_ray < 0.0 ? std::string("n/a")
+                                            : fmt::format("{:.1f}/{:.1f}", k.nodes_per_ray, k.prims_per_ray));
+    }
+    std::string verdict = row.is_embree ? std::string("reference") : fmt::format("{}", row.mismatches());
+    if (!row.validate_problems.empty()) verdict += fmt::format(" +{} INVALID", row.validate_problems.size());
+    if (row.mismatches() > 0) verdict += " MISMATCH";
+    cells.push_back(verdict);
+    rows.push_back(cells);
+  }
+  print_aligned(rows);
+  for (const auto& row : report.rows) {
+    if (row.build_statistics.empty() || row.is_embree) continue;
+    std::string line;
+    for (const auto& s : row.build_statistics) line += fmt::format("{}{}={:.4g}", line.empty() ? "" : ", ", s.name, s.value);
+    fmt::print("  {}: {}\n", row.spec, line);
+  }
+  std::size_t differences = 0;
+  for (const auto& row : report.rows) {
+    for (const auto& k : row.kinds) differences += k.reference_differences;
+  }
+  if (differences > 0) {
+    fmt::print("note: on {} ray(s) Embree's triangle test disagreed with ours; brute force confirmed the structures\n",
+               differences);
+  }
+}
+
+nlohmann::json to_json(const SceneReport& report) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& row : report.rows) {
+    nlohmann::json kinds = nlohmann::json::object();
+    for (const auto& k : row.kinds) {
+      nlohmann::json kind = {{"rays", k.rays},
+                             {"trace_ms", k.trace_ms},
+                             {"mrays_s_median", k.mrays_s_median},
+                             {"checked", k.checked},
+                             {"mismatches", k.mismatches},
+                             {"reference_differences", k.reference_differences}};
+      if (k.nodes_per_ray >= 0.0) {
+        kind["nodes_per_ray"] = k.nodes_per_ray;
+        kind["primitives_tested_per_ray"] = k.prims_per_ray;
+      }
+      kinds[to_string(k.kind)] = kind;
+    }
+    nlohmann::json statistics = nlohmann::json::object();
+    for (const auto& s : row.build_statistics) statistics[s.name] = s.value;
+    nlohmann::json entry = {{"accel", row.spec},
+                            {"is_embree", row.is_embree},
+                            {"build_ms", row.build_ms},
+                            {"build_ms_median", row.build_ms_median},
+                            {"memory_bytes", row.memory_bytes},
+                            {"bytes_per_primitive",
+                             report.primitives ? static_cast<double>(row.memory_bytes) / report.primitives : 0.0},
+                            {"build_statistics", statistics},
+                            {"validate_problems", row.validate_problems},
+                            {"mismatches", row.mismatches()},
+                            {"rays", kinds}};
+    if (!row.failure.empty()) entry["failure"] = row.failure;
+    rows.push_back(entry);
+  }
+  return {{"scene", report.name},       {"spec", report.spec},       {"kind", report.kind},
+          {"primitives", report.primitives}, {"threads", report.threads}, {"resolution", report.resolution},
+          {"reference", report.reference},   {"results", rows}};
+}
+
+}  // namespace rayaccel::cli

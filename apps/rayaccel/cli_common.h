@@ -1,0 +1,100 @@
+// Helpers every subcommand shares: usage errors, argument parsing (vectors, resolutions), thread limits, timing,
+// a stderr progress line, scene/camera/accelerator setup and JSON output.
+#pragma once
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+#include "rayaccel/core/error.h"
+#include "rayaccel/core/scene.h"
+#include "rayaccel/render/camera.h"
+
+namespace rayaccel::cli {
+
+/// A bad command-line value: reported on one line, exit code 2.
+class UsageError : public Error {
+ public:
+  explicit UsageError(const std::string& message) : Error(message) {}
+};
+
+inline constexpr int kExitRuntime = 1;
+inline constexpr int kExitUsage = 2;
+
+/// "x,y,z" with three finite numbers; throws UsageError naming `what` and the text otherwise.
+Vec3 parse_vec3(std::string_view text, std::string_view what);
+/// "WxH" (or "N" for N x N) with 1 <= W, H <= 16384.
+std::pair<int, int> parse_resolution(std::string_view text, std::string_view what);
+/// A comma-separated list; empty items are dropped.
+std::vector<std::string> split_list(std::string_view text);
+/// Throws UsageError unless low <= value <= high.
+void require_range(long long value, long long low, long long high, std::string_view what);
+
+/// Limits TBB (and so every build and batch) to `threads` workers for its lifetime; 0 keeps TBB's default.
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(int threads);
+  /// Workers TBB may use now.
+  static int active();
+
+ private:
+  std::unique_ptr<tbb::global_control> control_;
+};
+
+/// Wall-clock milliseconds since construction.
+class Stopwatch {
+ public:
+  double milliseconds() const {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+double median(std::vector<double> values);
+
+/// A one-line progress display on stderr. On a terminal it is redrawn in place with the current step and
+/// percentage; otherwise each stage prints one line and steps and percentages are not shown.
+class Progress {
+ public:
+  /// Starts a stage (a line of its own when stderr is not a terminal).
+  void stage(const std::string& label);
+  /// A step within the current stage; shown only on a terminal.
+  void step(const std::string& label);
+  void update(float fraction);
+  /// Ends the current line.
+  void done();
+
+ private:
+  void redraw() const;
+
+  std::string label_;
+  std::string step_;
+  int last_percent_ = -1;
+  bool open_ = false;
+};
+
+/// Loads a scene spec (file path or builtin:...); a missing file is a usage error naming it.
+Scene load_scene_checked(std::string_view spec);
+/// The MANIFEST camera of a shared scene file, else a camera framing the scene's bounds.
+Camera default_camera(std::string_view spec, const Scene& scene);
+
+/// Checks an accelerator spec ("embree" included when compiled in) without building; throws UsageError naming it.
+void check_accelerator_spec(std::string_view spec);
+/// Creates an accelerator from a spec; "embree" gives the Embree comparison wrapper with `threads` workers.
+std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads);
+/// The structure used when --accel is not given.
+std::string default_accelerator_spec();
+
+/// A file name made from free text: ':' ',' '=' '/' and spaces become '_'.
+std::string safe_file_name(std::string_view text);
+
+}  // namespace rayaccel::cli

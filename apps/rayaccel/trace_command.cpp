@@ -1,0 +1,111 @@
+// `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), traces a .rays file R times
+// with the batch API (median time), optionally writes the .hits (or .occ) file, and prints one JSON summary line.
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "rayaccel/scene/ray_io.h"
+
+namespace rayaccel::cli {
+
+namespace {
+
+struct TraceArgs {
+  std::string scene;
+  std::string rays;
+  std::string accel;
+  bool occlusion = false;
+  int threads = 0;
+  int repeat = 5;
+  std::string out;
+};
+
+constexpr int kBuilds = 3;
+
+int run_trace(const TraceArgs& args, bool threads_given) {
+  if (threads_given) require_range(args.threads, 1, 4096, "--threads");
+  require_range(args.repeat, 1, 1000000, "--repeat");
+  const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
+  check_accelerator_spec(spec);
+  const ThreadLimit limit(threads_given ? args.threads : 0);
+
+  const Scene scene = load_scene_checked(args.scene);
+  const std::vector<Ray> rays = read_rays(args.rays);
+
+  std::vector<double> build_ms;
+  std::unique_ptr<Accelerator> accel;
+  for (int i = 0; i < kBuilds; ++i) {
+    accel = make_structure(spec, ThreadLimit::active());
+    const Stopwatch clock;
+    accel->build(scene);
+    build_ms.push_back(clock.milliseconds());
+  }
+
+  std::vector<Hit> hits(args.occlusion ? 0 : rays.size());
+  std::vector<std::uint8_t> occluded(args.occlusion ? rays.size() : 0);
+  std::vector<double> trace_ms;
+  for (int i = 0; i < args.repeat; ++i) {
+    const Stopwatch clock;
+    if (args.occlusion) {
+      accel->occluded(rays, occluded);
+    } else {
+      accel->intersect(rays, hits);
+    }
+    trace_ms.push_back(clock.milliseconds());
+  }
+  const std::size_t hit_count =
+      args.occlusion ? static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), std::uint8_t{1}))
+                     : static_cast<std::size_t>(std::count_if(hits.begin(), hits.end(), [](const Hit& h) {
+                         return h.found();
+                       }));
+  if (!args.out.empty()) {
+    if (args.occlusion) {
+      write_occlusion(args.out, occluded);
+    } else {
+      write_hits(args.out, hits);
+    }
+  }
+
+  const double trace_median = median(trace_ms);
+  nlohmann::json summary = {
+      {"accel", accel->spec()},
+      {"scene", scene.name()},
+      {"primitives", scene.primitive_count()},
+      {"rays", rays.size()},
+      {"query", args.occlusion ? "occluded" : "intersect"},
+      {"threads", ThreadLimit::active()},
+      {"build_ms_median", median(build_ms)},
+      {"build_ms", build_ms},
+      {"trace_ms_median", trace_median},
+      {"trace_ms", trace_ms},
+      {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(rays.size()) / (trace_median * 1e3) : 0.0},
+      {"hit_count", hit_count},
+      {"memory_bytes", accel->memory_bytes()},
+  };
+  if (!args.out.empty()) summary["out"] = args.out;
+  fmt::print("{}\n", summary.dump());
+  return 0;
+}
+
+}  // namespace
+
+Command add_trace_command(CLI::App& root) {
+  auto args = std::make_shared<TraceArgs>();
+  CLI::App* app = root.add_subcommand("trace", "Trace a .rays file and write the .hits (or .occ) file");
+  app->add_option("scene", args->scene, "Mesh file or builtin:NAME[:key=value,...]")->required();
+  app->add_option("rays", args->rays, ".rays file (32 bytes per ray: ox oy oz tmin dx dy dz tmax)")->required();
+  app->add_option("--accel", args->accel, "Structure spec NAME[:key=value,...] (see 'rayaccel list'); default bvh");
+  app->add_flag("--occlusion", args->occlusion, "Any-hit queries (occluded()); writes a .occ file");
+  CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for build and trace (>= 1)");
+  app->add_option("--repeat", args->repeat, "Timed passes over all rays (median reported)")->capture_default_str();
+  app->add_option("--out", args->out, "Output .hits file (.occ with --occlusion)");
+  return {app, [args, threads] { return run_trace(*args, threads->count() > 0); }};
+}
+
+}  // namespace rayaccel::cli

@@ -1,0 +1,60 @@
+// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only (it is not in
+// the registry). Rays go through rtcIntersect1/rtcOccluded1 one at a time inside the same TBB batch loop every
+// structure uses, so timings compare like with like. Available only when RAYACCEL_HAVE_EMBREE is defined.
+#pragma once
+
+#ifdef RAYACCEL_HAVE_EMBREE
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+
+namespace rayaccel {
+
+enum class EmbreeBuildQuality { low, medium, high };
+
+struct EmbreeOptions {
+  int threads = 0;                                          ///< Embree worker threads; 0 = Embree's default
+  EmbreeBuildQuality quality = EmbreeBuildQuality::medium;  ///< RTC_BUILD_QUALITY_*; medium is Embree's default
+};
+
+/// Embree over a triangle scene. Hits follow this library's rules: t_min < t <= t_max, a miss is {t = +inf,
+/// prim_id = kInvalidPrimId, u = v = 0}, and void rays (NaN, infinite or zero direction, see PreparedRay) miss
+/// without reaching Embree. Traversal statistics are not available: the stats overloads leave them unchanged.
+class EmbreeAccelerator final : public Accelerator {
+ public:
+  /// Creates the Embree device; throws Error with Embree's message when that fails.
+  explicit EmbreeAccelerator(EmbreeOptions options = {});
+  ~EmbreeAccelerator() override;
+  EmbreeAccelerator(const EmbreeAccelerator&) = delete;
+  EmbreeAccelerator& operator=(const EmbreeAccelerator&) = delete;
+
+  /// Throws Error "embree comparison supports triangle scenes only" for sphere or user scenes.
+  void build(const Scene& scene) override;
+
+  Hit intersect(const Ray& ray) const override;
+  Hit intersect(const Ray& ray, TraversalStats& stats) const override;
+  bool occluded(const Ray& ray) const override;
+  bool occluded(const Ray& ray, TraversalStats& stats) const override;
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<TraversalStats> stats = {}) const override;
+  void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                std::span<TraversalStats> stats = {}) const override;
+
+  /// Bytes Embree allocated for the committed scene, as reported by its device memory monitor.
+  std::size_t memory_bytes() const override;
+  std::vector<BuildStatistic> build_statistics() const override;
+  std::vector<std::string> validate() const override;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace rayaccel
+
+#endif  // RAYACCEL_HAVE_EMBREE

@@ -1,0 +1,207 @@
+// EmbreeAccelerator: one Embree device and scene over the Scene's shared index buffer and a padded vertex copy;
+// rays are mapped to RTCRay with tnear just above t_min so Embree's [tnear, tfar] matches (t_min, t_max].
+#include "rayaccel/compare/embree_accelerator.h"
+
+#ifdef RAYACCEL_HAVE_EMBREE
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+
+struct EmbreeAccelerator::State {
+  EmbreeOptions options;
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  const Scene* source = nullptr;
+  std::vector<float> vertices;  ///< x y z per vertex plus 4 bytes of padding Embree may read past the last one
+  std::atomic<std::int64_t> allocated{0};  ///< bytes Embree holds now (memory monitor)
+  std::int64_t scene_bytes = 0;            ///< bytes the committed scene kept
+  std::string last_error;
+
+  void release_scene() {
+    if (scene) rtcReleaseScene(scene);
+    scene = nullptr;
+  }
+};
+
+namespace {
+
+RTCBuildQuality to_embree(EmbreeBuildQuality quality) {
+  switch (quality) {
+    case EmbreeBuildQuality::low: return RTC_BUILD_QUALITY_LOW;
+    case EmbreeBuildQuality::medium: return RTC_BUILD_QUALITY_MEDIUM;
+    case EmbreeBuildQuality::high: return RTC_BUILD_QUALITY_HIGH;
+  }
+  return RTC_BUILD_QUALITY_MEDIUM;
+}
+
+/// Fills an RTCRay from a ray that is not void with t_min < t_max. Embree accepts tnear <= t <= tfar; the next
+/// float above t_min turns that into t_min < t.
+void to_embree(const Ray& ray, RTCRay& out) {
+  out.org_x = ray.origin.x;
+  out.org_y = ray.origin.y;
+  out.org_z = ray.origin.z;
+  out.tnear = std::nextafter(ray.t_min, std::numeric_limits<float>::infinity());
+  out.dir_x = ray.direction.x;
+  out.dir_y = ray.direction.y;
+  out.dir_z = ray.direction.z;
+  out.time = 0.0f;
+  out.tfar = ray.t_max;
+  out.mask = 0xFFFFFFFFu;
+  out.id = 0;
+  out.flags = 0;
+}
+
+/// Rays that can hold no hit under t_min < t <= t_max: void rays (PreparedRay's rule) and empty intervals.
+bool cannot_hit(const Ray& ray) {
+  const PreparedRay prepared(ray);
+  return prepared.is_void() || !(prepared.t_min < prepared.t_max);
+}
+
+}  // namespace
+
+EmbreeAccelerator::EmbreeAccelerator(EmbreeOptions options) : state_(std::make_unique<State>()) {
+  state_->options = options;
+  const std::string config = options.threads > 0 ? "threads=" + std::to_string(options.threads) : std::string();
+  state_->device = rtcNewDevice(config.c_str());
+  if (!state_->device) {
+    throw Error("embree: cannot create a device with config '" + config + "' (error " +
+                std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  }
+  // Captureless lambdas: they convert to Embree's C callbacks and may name the private State.
+  rtcSetDeviceErrorFunction(
+      state_->device,
+      [](void* user, RTCError code, const char* message) {
+        static_cast<State*>(user)->last_error =
+            "embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+      },
+      state_.get());
+  rtcSetDeviceMemoryMonitorFunction(
+      state_->device,
+      [](void* user, ssize_t bytes, bool /*post*/) {
+        static_cast<State*>(user)->allocated.fetch_add(bytes, std::memory_order_relaxed);
+        return true;
+      },
+      state_.get());
+}
+
+EmbreeAccelerator::~EmbreeAccelerator() {
+  state_->release_scene();
+  rtcReleaseDevice(state_->device);
+}
+
+void EmbreeAccelerator::build(const Scene& scene) {
+  if (scene.kind() != PrimitiveKind::triangles) throw Error("embree comparison supports triangle scenes only");
+  State& s = *state_;
+  s.release_scene();
+  s.source = &scene;
+  s.last_error.clear();
+  const TriangleMesh& mesh = scene.mesh();
+  s.vertices.assign(mesh.vertices.size() * 3 + 1, 0.0f);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    s.vertices[3 * i] = mesh.vertices[i].x;
+    s.vertices[3 * i + 1] = mesh.vertices[i].y;
+    s.vertices[3 * i + 2] = mesh.vertices[i].z;
+  }
+  const std::int64_t before = s.allocated.load();
+  s.scene = rtcNewScene(s.device);
+  rtcSetSceneBuildQuality(s.scene, to_embree(s.options.quality));
+  if (!mesh.triangles.empty()) {
+    RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.vertices.data(), 0,
+                               3 * sizeof(float), mesh.vertices.size());
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
+                               sizeof(mesh.triangles[0]), mesh.triangles.size());
+    rtcSetGeometryBuildQuality(geometry, to_embree(s.options.quality));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(s.scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(s.scene);
+  s.scene_bytes = s.allocated.load() - before;
+  if (!s.last_error.empty()) throw Error("embree build failed: " + s.last_error);
+}
+
+Hit EmbreeAccelerator::intersect(const Ray& ray) const {
+  Hit hit;
+  if (!state_->scene || cannot_hit(ray)) return hit;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit query;
+  to_embree(ray, query.ray);
+  query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  query.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(state_->scene, &context, &query);
+  if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+    hit.t = query.ray.tfar;
+    hit.prim_id = query.hit.primID;
+    hit.u = query.hit.u;
+    hit.v = query.hit.v;
+  }
+  return hit;
+}
+
+Hit EmbreeAccelerator::intersect(const Ray& ray, TraversalStats&) const { return intersect(ray); }
+
+bool EmbreeAccelerator::occluded(const Ray& ray) const {
+  if (!state_->scene || cannot_hit(ray)) return false;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay query;
+  to_embree(ray, query);
+  rtcOccluded1(state_->scene, &context, &query);
+  return query.tfar == -std::numeric_limits<float>::infinity();
+}
+
+bool EmbreeAccelerator::occluded(const Ray& ray, TraversalStats&) const { return occluded(ray); }
+
+void EmbreeAccelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits,
+                                  std::span<TraversalStats> stats) const {
+  detail::check_batch_sizes(rays.size(), hits.size(), stats.size());
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) hits[i] = intersect(rays[i]);
+  });
+}
+
+void EmbreeAccelerator::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out,
+                                 std::span<TraversalStats> stats) const {
+  detail::check_batch_sizes(rays.size(), occluded_out.size(), stats.size());
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) occluded_out[i] = occluded(rays[i]) ? 1 : 0;
+  });
+}
+
+std::size_t EmbreeAccelerator::memory_bytes() const {
+  return state_->scene_bytes > 0 ? static_cast<std::size_t>(state_->scene_bytes) : 0;
+}
+
+std::vector<BuildStatistic> EmbreeAccelerator::build_statistics() const {
+  return {{"threads", static_cast<double>(state_->options.threads)},
+          {"build_quality", static_cast<double>(to_embree(state_->options.quality))}};
+}
+
+std::vector<std::string> EmbreeAccelerator::validate() const {
+  const State& s = *state_;
+  if (!s.scene) return {"not built"};
+  std::vector<std::string> problems;
+  if (!s.last_error.empty()) problems.push_back(s.last_error);
+  RTCBounds bounds;
+  rtcGetSceneBounds(s.scene, &bounds);
+  const AABB& want = s.source->bounds();
+  if (!want.is_empty() && (bounds.lower_x > want.lo.x || bounds.lower_y > want.lo.y || bounds.lower_z > want.lo.z ||
+                           bounds.upper_x < want.hi.x || bounds.upper_y < want.hi.y || bounds.upper_z < want.hi.z)) {
+    problems.push_back("embree scene bounds do not enclose the scene bounds");
+  }
+  return problems;
+}
+
+}  // namespace rayaccel
+
+#endif  // RAYACCEL_HAVE_EMBREE

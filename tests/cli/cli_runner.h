@@ -1,0 +1,26 @@
+// Runs the built rayaccel binary (RAYACCEL_CLI_PATH) or another program from a test and captures its exit code,
+// stdout and stderr; plus small file helpers the end-to-end tests share.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rayaccel::testing {
+
+struct CommandResult {
+  int exit_code = -1;  ///< the program's exit status; -1 when it did not exit normally (crash)
+  std::string out;
+  std::string err;
+};
+
+/// Runs program with args (each shell-quoted), waiting for it to finish.
+CommandResult run_program(const std::string& program, const std::vector<std::string>& args);
+/// Runs the rayaccel command-line tool.
+CommandResult run_cli(const std::vector<std::string>& args);
+
+/// A fresh empty directory under the test temp dir, named after the running test.
+std::filesystem::path fresh_directory(const std::string& tag);
+std::string read_file(const std::filesystem::path& path);
+
+}  // namespace rayaccel::testing

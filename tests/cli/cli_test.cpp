@@ -1,0 +1,285 @@
+// End-to-end tests of the rayaccel command-line tool, run as a separate process: trace output equals in-process
+// brute force, list/info print what the library says, and bad arguments fail with a message naming the value.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "rayaccel/accel/brute_force.h"
+#include "rayaccel/accel/registry.h"
+#include "rayaccel/scene/import.h"
+#include "rayaccel/scene/ray_io.h"
+
+namespace rayaccel {
+namespace {
+
+using testing::fresh_directory;
+using testing::run_cli;
+
+/// Writes a binary little-endian PLY in the format of shared/scenes (float xyz, uchar-count int faces).
+void write_ply(const std::filesystem::path& path, const TriangleMesh& mesh) {
+  std::ofstream out(path, std::ios::binary);
+  out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.vertices.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Vec3& v : mesh.vertices) out.write(reinterpret_cast<const char*>(&v), sizeof(v));
+  for (const auto& t : mesh.triangles) {
+    const unsigned char three = 3;
+    out.write(reinterpret_cast<const char*>(&three), 1);
+    for (std::uint32_t i : t) {
+      const std::int32_t index = static_cast<std::int32_t>(i);
+      out.write(reinterpret_cast<const char*>(&index), sizeof(index));
+    }
+  }
+}
+
+/// 300 random triangles in [-1, 1]^3, then a copy of triangle 5 (ties in t) and a zero-area triangle.
+TriangleMesh small_mesh() {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  TriangleMesh mesh;
+  for (std::uint32_t i = 0; i < 300; ++i) {
+    const Vec3 center{u(rng), u(rng), u(rng)};
+    for (int k = 0; k < 3; ++k) mesh.vertices.push_back(center + Vec3{u(rng), u(rng), u(rng)} * 0.25f);
+    mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  mesh.triangles.push_back(mesh.triangles[5]);
+  const auto n = static_cast<std::uint32_t>(mesh.vertices.size());
+  mesh.vertices.push_back({0.0f, 0.0f, 0.0f});
+  mesh.vertices.push_back({1.0f, 1.0f, 1.0f});
+  mesh.vertices.push_back({2.0f, 2.0f, 2.0f});
+  mesh.triangles.push_back({n, n + 1, n + 2});
+  return mesh;
+}
+
+/// Rays aimed at triangle centroids (some with a shortened t_max or a raised t_min) and random rays.
+std::vector<Ray> small_rays(const TriangleMesh& mesh) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+  std::uniform_int_distribution<std::size_t> pick(0, mesh.triangles.size() - 1);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 600; ++i) {
+    Ray r;
+    r.origin = {u(rng), u(rng), u(rng)};
+    if (i % 5 == 4) {
+      r.direction = {u(rng), u(rng), u(rng)};
+    } else {
+      const auto& t = mesh.triangles[pick(rng)];
+      const Vec3 target = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) * (1.0f / 3.0f);
+      r.direction = target - r.origin;
+    }
+    if (i % 7 == 3) r.t_max = 0.6f;
+    if (i % 11 == 2) r.t_min = 0.4f;
+    rays.push_back(r);
+  }
+  return rays;
+}
+
+struct SmallCase {
+  std::filesystem::path dir, ply, rays;
+  TriangleMesh mesh;
+};
+
+SmallCase make_small_case() {
+  SmallCase c;
+  c.dir = fresh_directory("case");
+  c.ply = c.dir / "small.ply";
+  c.rays = c.dir / "small.rays";
+  c.mesh = small_mesh();
+  write_ply(c.ply, c.mesh);
+  write_rays(c.rays, small_rays(c.mesh));
+  return c;
+}
+
+nlohmann::json last_line_json(const std::string& out) {
+  std::istringstream lines(out);
+  std::string line, last;
+  while (std::getline(lines, line)) {
+    if (!line.empty()) last = line;
+  }
+  return nlohmann::json::parse(last);
+}
+
+TEST(CliTrace, HitsFileEqualsInProcessBruteForce) {
+  const SmallCase c = make_small_case();
+  const auto out = c.dir / "out.hits";
+  const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "brute_force", "--repeat", "2",
+                               "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+
+  const Scene scene = load_scene(c.ply.string());
+  BruteForce oracle;
+  oracle.build(scene);
+  const std::vector<Ray> rays = read_rays(c.rays);
+  std::vector<Hit> expected(rays.size());
+  oracle.intersect(rays, expected);
+  const std::vector<Hit> got = read_hits(out);
+  ASSERT_EQ(got.size(), expected.size());
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(std::memcmp(&got[i], &expected[i], sizeof(Hit)), 0)
+        << "ray " << i << ": got t=" << got[i].t << " prim=" << got[i].prim_id << ", expected t=" << expected[i].t
+        << " prim=" << expected[i].prim_id;
+    found += expected[i].found() ? 1 : 0;
+  }
+  EXPECT_GT(found, rays.size() / 3) << "the rays should mostly hit";
+  EXPECT_LT(found, rays.size()) << "some rays should miss";
+
+  const nlohmann::json summary = last_line_json(result.out);
+  for (const char* key : {"accel", "scene", "primitives", "rays", "threads", "build_ms_median", "trace_ms_median",
+                          "mrays_s_median", "hit_count", "memory_bytes"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
+  EXPECT_EQ(summary["accel"], "brute_force");
+  EXPECT_EQ(summary["rays"], rays.size());
+  EXPECT_EQ(summary["primitives"], scene.primitive_count());
+  EXPECT_EQ(summary["hit_count"], found);
+}
+
+TEST(CliTrace, OcclusionWritesOccFile) {
+  const SmallCase c = make_small_case();
+  const auto out = c.dir / "out.occ";
+  const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "brute_force", "--occlusion",
+                               "--threads", "1", "--repeat", "1", "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const Scene scene = load_scene(c.ply.string());
+  BruteForce oracle;
+  oracle.build(scene);
+  const std::vector<Ray> rays = read_rays(c.rays);
+  std::vector<std::uint8_t> expected(rays.size());
+  oracle.occluded(rays, expected);
+  EXPECT_EQ(read_occlusion(out), expected);
+  const nlohmann::json summary = last_line_json(result.out);
+  EXPECT_EQ(summary["threads"], 1);
+  EXPECT_EQ(summary["hit_count"], std::count(expected.begin(), expected.end(), std::uint8_t{1}));
+}
+
+TEST(CliList, NamesPrintsExactlyTheVariantNames) {
+  const auto result = run_cli({"list", "--names"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::string expected;
+  for (const auto& name : accelerator_variant_names()) expected += name + "\n";
+  EXPECT_EQ(result.out, expected);
+}
+
+TEST(CliList, DescribesEveryStructure) {
+  const auto result = run_cli({"list"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const auto& info : accelerator_registry()) {
+    EXPECT_NE(result.out.find(info.name), std::string::npos) << info.name;
+    EXPECT_NE(result.out.find(info.description), std::string::npos) << info.name;
+    for (const auto& option : info.options) EXPECT_NE(result.out.find(option.key), std::string::npos) << option.key;
+  }
+}
+
+TEST(CliInfo, PrintsCounts) {
+  const SmallCase c = make_small_case();
+  const auto result = run_cli({"info", c.ply.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("primitives:  302\n"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("degenerate:  1\n"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("invalid:     0\n"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("load time:"), std::string::npos) << result.out;
+}
+
+/// Each bad invocation must exit with `code` and name `value` in its one-line error.
+struct BadCase {
+  std::vector<std::string> args;
+  std::string value;
+  int code;
+};
+
+TEST(CliErrors, BadArgumentsNameTheValue) {
+  const SmallCase c = make_small_case();
+  const std::string ply = c.ply.string(), rays = c.rays.string();
+  const std::vector<BadCase> cases = {
+      {{"trace", ply, rays, "--accel", "no_such_structure"}, "no_such_structure", 2},
+      {{"trace", ply, rays, "--accel", "brute_force:bogus_key=1"}, "bogus_key", 2},
+      {{"trace", ply, rays, "--threads", "0"}, "--threads", 2},
+      {{"trace", ply, rays, "--threads", "many"}, "many", 2},
+      {{"trace", ply, rays, "--repeat", "0"}, "--repeat", 2},
+      {{"trace", ply, rays, "--no-such-option"}, "--no-such-option", 2},
+      {{"trace", (c.dir / "missing.ply").string(), rays}, "missing.ply", 2},
+      {{"trace", ply, (c.dir / "missing.rays").string()}, "missing.rays", 1},
+      {{"info", (c.dir / "missing.ply").string()}, "missing.ply", 2},
+      {{"render", ply, "--eye", "1,2"}, "1,2", 2},
+      {{"render", ply, "--at", "1,x,3"}, "1,x,3", 2},
+      {{"render", ply, "--res", "0x10"}, "0x10", 2},
+      {{"render", ply, "--mode", "sepia"}, "sepia", 2},
+      {{"render", ply, "--fov", "200"}, "200", 2},
+      {{"bench", ply, "--res", "0"}, "--res", 2},
+      {{"bench", ply, "--rays", "primary,cosmic"}, "cosmic", 2},
+      {{"bench", ply, "--accel", "brute_force,nope"}, "nope", 2},
+      {{"bench", ply, "--compare", "optix"}, "optix", 2},
+      {{"frobnicate"}, "frobnicate", 2},
+  };
+  for (const auto& bad : cases) {
+    std::string joined;
+    for (const auto& a : bad.args) joined += a + " ";
+    const auto result = run_cli(bad.args);
+    EXPECT_EQ(result.exit_code, bad.code) << joined << "\nstderr: " << result.err;
+    EXPECT_NE(result.err.find(bad.value), std::string::npos) << joined << "\nstderr: " << result.err;
+    EXPECT_NE(result.err.find("error"), std::string::npos) << joined << "\nstderr: " << result.err;
+  }
+}
+
+TEST(CliTrace, CorruptRaysFileIsARuntimeError) {
+  const SmallCase c = make_small_case();
+  const auto bad = c.dir / "bad.rays";
+  std::ofstream(bad, std::ios::binary) << "not a multiple of 32 bytes";
+  const auto result = run_cli({"trace", c.ply.string(), bad.string()});
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("bad.rays"), std::string::npos) << result.err;
+}
+
+TEST(CliRender, WritesPng) {
+  const SmallCase c = make_small_case();
+  const auto png = c.dir / "img.png";
+  const auto result = run_cli({"render", c.ply.string(), "--accel", "brute_force", "--res", "24x16", "--eye",
+                               "0,0,5", "--at", "0,0,0", "--up", "0,1,0", "--fov", "50", "--out", png.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(png));
+  EXPECT_GT(std::filesystem::file_size(png), 0u);
+}
+
+TEST(CliBench, SmallRunWritesJsonAndImages) {
+  const SmallCase c = make_small_case();
+  const auto json_path = c.dir / "bench.json";
+  const auto images = c.dir / "images";
+  std::vector<std::string> args = {"bench", c.ply.string(), "--accel", "brute_force", "--res", "16", "--repeat",
+                                   "1", "--json", json_path.string(), "--images", images.string()};
+#ifdef RAYACCEL_HAVE_EMBREE
+  args.insert(args.end(), {"--compare", "embree"});
+#endif
+  const auto result = run_cli(args);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("brute_force"), std::string::npos) << result.out;
+  const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
+  const auto& rows = report["scenes"][0]["results"];
+  bool saw_brute_force = false;
+  for (const auto& row : rows) {
+    if (row["accel"] != "brute_force") continue;
+    saw_brute_force = true;
+    EXPECT_EQ(row["mismatches"], 0);
+    EXPECT_GT(row["rays"]["primary"]["checked"].get<int>(), 0);
+    EXPECT_EQ(row["rays"]["primary"]["rays"], 256);
+    EXPECT_DOUBLE_EQ(row["rays"]["primary"]["primitives_tested_per_ray"].get<double>(), 302.0);
+  }
+  EXPECT_TRUE(saw_brute_force);
+#ifdef RAYACCEL_HAVE_EMBREE
+  EXPECT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["accel"], "embree");
+#endif
+  EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_normals.png"));
+  EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_heatmap.png"));
+}
+
+}  // namespace
+}  // namespace rayaccel

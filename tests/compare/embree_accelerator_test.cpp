@@ -1,0 +1,140 @@
+// Tests of the Embree comparison wrapper: it agrees with brute force (t within Embree's kernel tolerance), maps
+// misses and void rays to this library's miss record, measures its memory, and refuses non-triangle scenes.
+#include "rayaccel/compare/embree_accelerator.h"
+
+#ifdef RAYACCEL_HAVE_EMBREE
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "rayaccel/accel/brute_force.h"
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+namespace {
+
+Scene random_triangles(std::uint32_t count) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  TriangleMesh mesh;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const Vec3 c{u(rng), u(rng), u(rng)};
+    for (int k = 0; k < 3; ++k) mesh.vertices.push_back(c + Vec3{u(rng), u(rng), u(rng)} * 0.2f);
+    mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  return Scene::from_mesh(std::move(mesh), "random");
+}
+
+std::vector<Ray> random_rays(std::size_t count) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Ray> rays(count);
+  for (auto& r : rays) {
+    r.origin = Vec3{u(rng), u(rng), u(rng)} * 2.0f;
+    r.direction = Vec3{u(rng), u(rng), u(rng)} * 0.3f - r.origin;
+  }
+  return rays;
+}
+
+bool agrees(const Hit& a, const Hit& b) {
+  if (a.found() != b.found()) return false;
+  if (!a.found() || a.prim_id == b.prim_id) return true;
+  return std::abs(a.t - b.t) <= 1e-4f * std::abs(b.t);
+}
+
+TEST(EmbreeAccelerator, AgreesWithBruteForce) {
+  const Scene scene = random_triangles(2000);
+  EmbreeAccelerator embree(EmbreeOptions{2, EmbreeBuildQuality::medium});
+  embree.build(scene);
+  BruteForce oracle;
+  oracle.build(scene);
+  const auto rays = random_rays(3000);
+  std::vector<Hit> got(rays.size()), want(rays.size());
+  std::vector<std::uint8_t> got_occ(rays.size()), want_occ(rays.size());
+  embree.intersect(rays, got);
+  oracle.intersect(rays, want);
+  embree.occluded(rays, got_occ);
+  oracle.occluded(rays, want_occ);
+  std::size_t disagreements = 0, hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    disagreements += agrees(got[i], want[i]) && got_occ[i] == want_occ[i] ? 0 : 1;
+    hits += want[i].found() ? 1 : 0;
+    if (got[i].found() && got[i].prim_id == want[i].prim_id) {
+      EXPECT_NEAR(got[i].u, want[i].u, 1e-3f);
+      EXPECT_NEAR(got[i].v, want[i].v, 1e-3f);
+    }
+  }
+  EXPECT_GT(hits, rays.size() / 4);
+  EXPECT_EQ(disagreements, 0u);
+  EXPECT_TRUE(embree.validate().empty());
+  EXPECT_GT(embree.memory_bytes(), 2000u * 8u) << "the memory monitor should see Embree's BVH";
+}
+
+TEST(EmbreeAccelerator, MissesAndVoidRaysGiveTheMissRecord) {
+  const Scene scene = random_triangles(50);
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<Ray> rays = {
+      {{10.0f, 10.0f, 10.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, inf},  // points away
+      {{nan, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, inf},
+      {{0.0f, 0.0f, -5.0f}, 0.0f, {nan, 0.0f, 1.0f}, inf},
+      {{0.0f, 0.0f, -5.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, inf},
+      {{0.0f, 0.0f, -5.0f}, nan, {0.0f, 0.0f, 1.0f}, inf},
+      {{0.0f, 0.0f, -5.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 0.0f},  // t_max = 0
+      {{0.0f, 0.0f, -5.0f}, 3.0f, {0.0f, 0.0f, 1.0f}, 2.0f},  // t_max < t_min
+  };
+  for (const Ray& r : rays) {
+    const Hit h = embree.intersect(r);
+    EXPECT_EQ(h.prim_id, kInvalidPrimId);
+    EXPECT_EQ(h.t, inf);
+    EXPECT_EQ(h.u, 0.0f);
+    EXPECT_EQ(h.v, 0.0f);
+    EXPECT_FALSE(embree.occluded(r));
+  }
+}
+
+TEST(EmbreeAccelerator, HonoursTheHitInterval) {
+  TriangleMesh mesh;
+  mesh.vertices = {{-1.0f, -1.0f, 2.0f}, {1.0f, -1.0f, 2.0f}, {0.0f, 1.0f, 2.0f}};
+  mesh.triangles = {{0, 1, 2}};
+  const Scene scene = Scene::from_mesh(mesh);
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  const Ray exact{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 2.0f};  // t = t_max counts
+  EXPECT_EQ(embree.intersect(exact).prim_id, 0u);
+  EXPECT_FLOAT_EQ(embree.intersect(exact).t, 2.0f);
+  const Ray starts_there{{0.0f, 0.0f, 0.0f}, 2.0f, {0.0f, 0.0f, 1.0f}, 5.0f};  // t = t_min does not
+  EXPECT_FALSE(embree.intersect(starts_there).found());
+  EXPECT_FALSE(embree.occluded(starts_there));
+  const Ray short_ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 1.999f};
+  EXPECT_FALSE(embree.occluded(short_ray));
+}
+
+TEST(EmbreeAccelerator, EmptySceneMissesEverything) {
+  const Scene scene = Scene::from_mesh({});
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  EXPECT_FALSE(embree.intersect(Ray{}).found());
+  EXPECT_FALSE(embree.occluded(Ray{}));
+}
+
+TEST(EmbreeAccelerator, RejectsNonTriangleScenes) {
+  const Scene spheres = Scene::from_spheres({{{0.0f, 0.0f, 0.0f}, 1.0f}});
+  EmbreeAccelerator embree;
+  try {
+    embree.build(spheres);
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "embree comparison supports triangle scenes only");
+  }
+}
+
+}  // namespace
+}  // namespace rayaccel
+
+#endif  // RAYACCEL_HAVE_EMBREE

@@ -1,0 +1,161 @@
+#!/usr/bin/python3
+"""Independent reference tracer: closest hits of a .rays file against a binary PLY triangle mesh, written as .hits.
+
+Follows Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection" (JCGT 2(1), 2013): the ray's dominant axis
+becomes z, the triangle is sheared so the ray runs along +z through the origin, and the three 2D edge functions
+decide the hit. Every step is float32 arithmetic in numpy with the operation order of the C++ kernel (no fused
+multiply-add), edge functions that come out exactly zero are recomputed in float64 (where the products are exact)
+and rounded back, the hit rule is t_min < t <= t_max, and of equal t the lowest triangle index wins. The output is
+meant to be byte-identical to `rayaccel trace --accel brute_force`.
+
+Usage: reference_trace.py MESH.ply RAYS.rays OUT.hits
+"""
+import sys
+
+import numpy as np
+
+F32 = np.float32
+MISS_PRIM = 0xFFFFFFFF
+
+
+def read_binary_ply(path):
+    """Vertices (N x 3 float32) and triangles (M x 3 int64) of a binary little-endian PLY with triangle faces."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.find(b"end_header")
+    if not data.startswith(b"ply") or end < 0:
+        raise SystemExit(f"{path}: not a PLY file")
+    body = data.index(b"\n", end) + 1
+    elements = []  # [name, count, [(property name, type or (list count type, item type))]]
+    for line in data[:body].decode("ascii").splitlines():
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "format" and words[1] != "binary_little_endian":
+            raise SystemExit(f"{path}: only binary_little_endian PLY is supported")
+        if words[0] == "element":
+            elements.append([words[1], int(words[2]), []])
+        elif words[0] == "property":
+            kind = (words[2], words[3]) if words[1] == "list" else words[1]
+            elements[-1][2].append((words[-1], kind))
+    types = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "<i2", "int16": "<i2",
+             "ushort": "<u2", "uint16": "<u2", "int": "<i4", "int32": "<i4", "uint": "<u4", "uint32": "<u4",
+             "float": "<f4", "float32": "<f4", "double": "<f8", "float64": "<f8"}
+    offset = body
+    vertices = faces = None
+    for name, count, props in elements:
+        if all(not isinstance(kind, tuple) for _, kind in props):
+            record = np.dtype([(p, types[kind]) for p, kind in props])
+            table = np.frombuffer(data, dtype=record, count=count, offset=offset)
+            offset += record.itemsize * count
+            if name == "vertex":
+                vertices = np.stack([table["x"], table["y"], table["z"]], axis=1).astype(F32)
+        elif name == "face" and len(props) == 1:
+            count_type, item_type = (types[t] for t in props[0][1])
+            count_size, item_size = np.dtype(count_type).itemsize, np.dtype(item_type).itemsize
+            first = np.frombuffer(data, dtype=count_type, count=1, offset=offset)[0] if count else 3
+            if first != 3:
+                raise SystemExit(f"{path}: only triangle faces are supported")
+            record = np.dtype([("n", count_type), ("i", item_type, (3,))])
+            if record.itemsize != count_size + 3 * item_size:
+                raise SystemExit(f"{path}: unexpected face layout")
+            table = np.frombuffer(data, dtype=record, count=count, offset=offset)
+            if np.any(table["n"] != 3):
+                raise SystemExit(f"{path}: only triangle faces are supported")
+            faces = table["i"].astype(np.int64)
+            offset += record.itemsize * count
+        else:
+            raise SystemExit(f"{path}: element '{name}' has a layout this reader does not handle")
+    if vertices is None or faces is None:
+        raise SystemExit(f"{path}: needs vertex and face elements")
+    return vertices, faces
+
+
+class Mesh:
+    """Per-axis float32 vertex columns of every valid triangle (finite vertices), with their ids."""
+
+    def __init__(self, vertices, faces):
+        corners = vertices[faces]  # M x 3 (corner) x 3 (axis)
+        valid = np.all(np.isfinite(corners), axis=(1, 2))
+        self.ids = np.nonzero(valid)[0]
+        corners = corners[valid]
+        self.v = [[np.ascontiguousarray(corners[:, c, axis]) for axis in range(3)] for c in range(3)]
+
+
+def dominant_axis(ad):
+    """Index of the largest component, ties to the lower axis (the C++ max_axis)."""
+    if ad[0] >= ad[1] and ad[0] >= ad[2]:
+        return 0
+    return 1 if ad[1] >= ad[2] else 2
+
+
+def trace_ray(mesh, ray):
+    """(t, prim, u, v) of the closest hit with t_min < t <= t_max, or the miss record."""
+    origin, t_min, direction, t_max = ray[0:3], ray[3], ray[4:7], ray[7]
+    miss = (F32(np.inf), MISS_PRIM, F32(0), F32(0))
+    valid = (np.all(np.isfinite(origin)) and np.all(np.isfinite(direction)) and np.any(direction != 0)
+             and not np.isnan(t_min) and not np.isnan(t_max) and t_min <= t_max)
+    if not valid or mesh.ids.size == 0:
+        return miss
+    kz = dominant_axis(np.abs(direction))
+    kx = (kz + 1) % 3
+    ky = (kx + 1) % 3
+    if direction[kz] < 0:
+        kx, ky = ky, kx
+    dz = direction[kz]
+    sx = F32(direction[kx] / dz)
+    sy = F32(direction[ky] / dz)
+    sz = F32(F32(1) / dz)
+
+    # Vertices relative to the origin, then sheared: p_x - s_x * p_z (each product rounded on its own).
+    rel = [[mesh.v[c][axis] - origin[axis] for axis in range(3)] for c in range(3)]
+    px = [rel[c][kx] - sx * rel[c][kz] for c in range(3)]
+    py = [rel[c][ky] - sy * rel[c][kz] for c in range(3)]
+    (ax, bx, cx), (ay, by, cy) = px, py
+    eu = cx * by - cy * bx
+    ev = ax * cy - ay * cx
+    ew = bx * ay - by * ax
+    redo = (eu == 0) | (ev == 0) | (ew == 0)
+    if np.any(redo):
+        d = [np.asarray(a[redo], dtype=np.float64) for a in (ax, ay, bx, by, cx, cy)]
+        dax, day, dbx, dby, dcx, dcy = d
+        eu[redo] = (dcx * dby - dcy * dbx).astype(F32)
+        ev[redo] = (dax * dcy - day * dcx).astype(F32)
+        ew[redo] = (dbx * day - dby * dax).astype(F32)
+    negative = (eu < 0) | (ev < 0) | (ew < 0)
+    positive = (eu > 0) | (ev > 0) | (ew > 0)
+    det = (eu + ev) + ew
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        az = sz * rel[0][kz]
+        bz = sz * rel[1][kz]
+        cz = sz * rel[2][kz]
+        scaled_t = (eu * az + ev * bz) + ew * cz
+        inv_det = F32(1) / det
+        t = scaled_t * inv_det
+    upper = np.nextafter(F32(t_max), F32(np.inf))  # exclusive bound, as Hit::begin sets it
+    accept = ~(negative & positive) & (det != 0) & (t > t_min) & (t < upper)
+    if not np.any(accept):
+        return miss
+    candidates = np.nonzero(accept)[0]
+    best = candidates[np.argmin(t[candidates])]  # argmin keeps the first (lowest id) of equal t
+    return (t[best], int(mesh.ids[best]), ev[best] * inv_det[best], ew[best] * inv_det[best])
+
+
+def main(argv):
+    if len(argv) != 4:
+        raise SystemExit(__doc__)
+    vertices, faces = read_binary_ply(argv[1])
+    mesh = Mesh(vertices, faces)
+    rays = np.fromfile(argv[2], dtype="<f4")
+    if rays.size % 8:
+        raise SystemExit(f"{argv[2]}: size is not a multiple of 32 bytes")
+    rays = rays.reshape(-1, 8).astype(F32)
+    record = np.dtype([("t", "<f4"), ("prim", "<u4"), ("u", "<f4"), ("v", "<f4")])
+    hits = np.zeros(len(rays), dtype=record)
+    for i, ray in enumerate(rays):
+        hits[i] = trace_ray(mesh, ray)
+    hits.tofile(argv[3])
+
+
+if __name__ == "__main__":
+    main(sys.argv)
