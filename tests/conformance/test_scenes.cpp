@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "rayaccel/geometry/ray_sphere.h"
+#include "rayaccel/render/camera.h"
 
 namespace rayaccel::conformance {
 
@@ -194,26 +195,11 @@ std::vector<Ray> random_rays(const AABB& scene_box, std::size_t count, std::uint
 }
 
 std::vector<Ray> camera_rays(const AABB& scene_box, int width, int height) {
-  const AABB box = usable_box(scene_box);
-  const Vec3 center = box.center();
-  const float diagonal = std::max(length(box.extent()), 1e-30f);
-  const Vec3 eye = center + normalize(Vec3{1.0f, 0.7f, 1.3f}) * (1.3f * diagonal);
-  const Vec3 forward = normalize(center - eye);
-  const Vec3 right = normalize(cross(forward, Vec3{0.0f, 1.0f, 0.0f}));
-  const Vec3 up = cross(right, forward);
-  const float tan_half = std::tan(0.5f * 45.0f * std::numbers::pi_v<float> / 180.0f);
-  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const CameraFrame frame = Camera::framing(usable_box(scene_box)).frame(width, height);
   std::vector<Ray> rays;
   rays.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
   for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const float sx = ((static_cast<float>(x) + 0.5f) / static_cast<float>(width) * 2.0f - 1.0f) * tan_half * aspect;
-      const float sy = (1.0f - (static_cast<float>(y) + 0.5f) / static_cast<float>(height) * 2.0f) * tan_half;
-      Ray ray;
-      ray.origin = eye;
-      ray.direction = normalize(forward + right * sx + up * sy);
-      rays.push_back(ray);
-    }
+    for (int x = 0; x < width; ++x) rays.push_back(frame.ray(x, y));
   }
   return rays;
 }

@@ -60,7 +60,7 @@ TriangleMesh transformed(TriangleMesh mesh, float scale, const Vec3& offset);
 /// Seeded random rays about `box`: origins inside and outside it, directions uniform, aimed at the box, or
 /// axis-aligned with +0 and -0 in the other components; some with a finite t_max or a positive t_min.
 std::vector<Ray> random_rays(const AABB& box, std::size_t count, std::uint64_t seed);
-/// Pinhole camera rays (width x height, unit directions) from a three-quarter view framing `box`.
+/// Primary rays (width x height) of Camera::framing(box): a three-quarter view of the whole box.
 std::vector<Ray> camera_rays(const AABB& box, int width, int height);
 /// Axis-parallel rays and diagonals in axis planes, with every combination of +0 / -0 zero components, from every
 /// origin in coords^3 (48 rays per origin). With coordinates on and between the planes of quad_lattice_mesh() or

@@ -1,0 +1,105 @@
+// Unit tests of PreparedRay (which rays are void, reciprocal directions and signs of +-0, the watertight axis
+// permutation) and of Hit's tracing bound (begin / finish).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+
+namespace rayaccel {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+TEST(PreparedRay, ValidRaysKeepTheirInterval) {
+  const PreparedRay r(Ray{{1, 2, 3}, 0.5f, {0, 0, 1}, 8.0f});
+  EXPECT_FALSE(r.is_void());
+  EXPECT_EQ(r.t_min, 0.5f);
+  EXPECT_EQ(r.t_max, 8.0f);
+  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, 2.0f, {1, 0, 0}, 2.0f}).is_void()) << "t_min == t_max is allowed";
+  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, 0.0f}).is_void());
+  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, -kInf, {1, 0, 0}, kInf}).is_void());
+  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, kInf, {1, 0, 0}, kInf}).is_void());
+  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, 0.0f, {1e-40f, 0, 0}, kInf}).is_void()) << "denormal but nonzero";
+}
+
+TEST(PreparedRay, BadRaysAreVoid) {
+  const Vec3 o{1, 2, 3}, d{0.5f, -0.5f, 1.0f};
+  std::vector<Ray> bad{Ray{o, 0.0f, {0, 0, 0}, kInf}, Ray{o, 0.0f, {-0.0f, 0.0f, -0.0f}, kInf},
+                       Ray{o, kNaN, d, kInf},          Ray{o, 0.0f, d, kNaN},
+                       Ray{o, 3.0f, d, 2.0f},          Ray{o, kInf, d, -kInf}};
+  for (int a = 0; a < 3; ++a) {
+    for (float v : {kNaN, kInf, -kInf}) {
+      Ray ro{o, 0.0f, d, kInf}, rd{o, 0.0f, d, kInf};
+      ro.origin[a] = v;
+      rd.direction[a] = v;
+      bad.push_back(ro);
+      bad.push_back(rd);
+    }
+  }
+  for (const Ray& ray : bad) {
+    const PreparedRay r(ray);
+    EXPECT_TRUE(r.is_void());
+    EXPECT_EQ(r.t_min, kInf);
+    EXPECT_EQ(r.t_max, -kInf);
+  }
+}
+
+TEST(PreparedRay, ReciprocalKeepsTheSignOfZero) {
+  const PreparedRay r(Ray{{0, 0, 0}, 0.0f, {0.0f, -0.0f, -2.0f}, kInf});
+  EXPECT_EQ(r.inv_direction.x, kInf);
+  EXPECT_EQ(r.inv_direction.y, -kInf);
+  EXPECT_EQ(r.inv_direction.z, -0.5f);
+  EXPECT_EQ(r.negative[0], 0);
+  EXPECT_EQ(r.negative[1], 1) << "-0 counts as negative";
+  EXPECT_EQ(r.negative[2], 1);
+}
+
+TEST(PreparedRay, ShearAxesFollowTheDominantComponent) {
+  const PreparedRay up(Ray{{0, 0, 0}, 0.0f, {0.1f, 3.0f, -0.2f}, kInf});
+  EXPECT_EQ(up.kz, 1);
+  EXPECT_EQ(up.kx, 2);
+  EXPECT_EQ(up.ky, 0);
+  EXPECT_FLOAT_EQ(up.shear_z, 1.0f / 3.0f);
+  const PreparedRay down(Ray{{0, 0, 0}, 0.0f, {0.1f, -3.0f, -0.2f}, kInf});
+  EXPECT_EQ(down.kz, 1);
+  EXPECT_EQ(down.kx, 0) << "a negative dominant component swaps kx and ky to keep the winding";
+  EXPECT_EQ(down.ky, 2);
+  for (const Vec3& d : {Vec3{1, 1, 1}, Vec3{-2, 2, 0}, Vec3{0, 0, -1}}) {
+    const PreparedRay r(Ray{{0, 0, 0}, 0.0f, d, kInf});
+    EXPECT_EQ(r.kx + r.ky + r.kz, 3) << "a permutation of the axes";
+    EXPECT_EQ(std::fabs(d[r.kz]), std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))));
+  }
+}
+
+TEST(HitRecord, BeginSetsAnExclusiveBoundJustAboveTMax) {
+  const PreparedRay r(Ray{{0, 0, 0}, 0.0f, {0, 0, 1}, 2.0f});
+  const Hit h = Hit::begin(r);
+  EXPECT_GT(h.t, 2.0f);
+  EXPECT_EQ(h.t, std::nextafter(2.0f, kInf));
+  EXPECT_FALSE(h.found());
+  EXPECT_EQ(Hit::begin(PreparedRay(Ray{{0, 0, 0}, 0.0f, {0, 0, 1}, kInf})).t, kInf);
+}
+
+TEST(HitRecord, FinishNormalisesMisses) {
+  Hit miss;
+  miss.t = 3.0f;
+  miss.u = 0.5f;
+  miss.finish();
+  EXPECT_EQ(miss.t, kInf);
+  EXPECT_EQ(miss.u, 0.0f);
+  EXPECT_EQ(miss.v, 0.0f);
+  Hit hit;
+  hit.t = 3.0f;
+  hit.prim_id = 4;
+  hit.u = 0.25f;
+  hit.finish();
+  EXPECT_EQ(hit.t, 3.0f);
+  EXPECT_EQ(hit.u, 0.25f);
+}
+
+}  // namespace
+}  // namespace rayaccel
