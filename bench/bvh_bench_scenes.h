@@ -1,19 +1,16 @@
-// Scenes for the BVH benchmarks: the shared PLY meshes (read directly: the fixed binary layout of
-// shared/scenes/MANIFEST.md) with their standard cameras, and a wave-deformed grid for refit.
+// Scenes for the BVH benchmarks: the shared meshes of shared/scenes with their standard 1024x1024 cameras.
 #pragma once
 
-#include <cmath>
-#include <cstdint>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "rayaccel/core/error.h"
 #include "rayaccel/core/scene.h"
+#include "rayaccel/scene/import.h"
 #include "rayaccel/render/camera.h"
 
 namespace rayaccel::bvh_bench {
@@ -21,29 +18,6 @@ namespace rayaccel::bvh_bench {
 inline std::filesystem::path scenes_dir() {
   if (const char* env = std::getenv("RAYACCEL_SCENES")) return env;
   return std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "shared" / "scenes";
-}
-
-/// Reads a MANIFEST-format PLY (binary little endian, float xyz, uchar-count int faces); empty mesh on failure.
-inline TriangleMesh read_shared_ply(const std::filesystem::path& path) {
-  TriangleMesh mesh;
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  std::size_t vertices = 0, faces = 0;
-  while (std::getline(in, line) && line != "end_header") {
-    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
-    if (line.rfind("element face ", 0) == 0) faces = std::stoul(line.substr(13));
-  }
-  if (!in) return mesh;
-  mesh.vertices.resize(vertices);
-  in.read(reinterpret_cast<char*>(mesh.vertices.data()), static_cast<std::streamsize>(vertices * sizeof(Vec3)));
-  mesh.triangles.resize(faces);
-  for (auto& t : mesh.triangles) {
-    char record[13];
-    in.read(record, sizeof record);
-    std::memcpy(t.data(), record + 1, 12);
-  }
-  if (!in) return {};
-  return mesh;
 }
 
 struct BenchScene {
@@ -57,7 +31,12 @@ inline const BenchScene* shared_scene(const std::string& name) {
   auto it = cache.find(name);
   if (it != cache.end()) return it->second.get();
   const auto path = scenes_dir() / (name + ".ply");
-  TriangleMesh mesh = read_shared_ply(path);
+  TriangleMesh mesh;
+  try {
+    mesh = import_mesh(path);
+  } catch (const Error&) {
+    return (cache[name] = nullptr).get();
+  }
   std::unique_ptr<BenchScene> loaded;
   const auto camera = standard_camera(path);
   if (!mesh.triangles.empty() && camera) {

@@ -29,7 +29,11 @@ std::uint32_t bin_of(float centroid, float lo, float scale, std::uint32_t bin_co
 BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_count) {
   BinnedSplit best;
   const AABB centroids = centroid_bounds_of(refs);
-  std::array<std::array<Bin, kMaxBins>, 3> bins{};
+  // Reused per thread and cleared only as far as used: small nodes are many, so a fresh 3 x 64-bin array each
+  // would cost more than the binning itself.
+  thread_local std::vector<Bin> storage;
+  storage.assign(3 * std::size_t{bin_count}, Bin{});
+  Bin* bins[3] = {storage.data(), storage.data() + bin_count, storage.data() + 2 * bin_count};
   std::array<float, 3> scale{};
   for (int a = 0; a < 3; ++a) {
     const float extent = centroids.hi[a] - centroids.lo[a];
@@ -43,13 +47,15 @@ BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_c
       ++b.count;
     }
   }
-  std::array<float, kMaxBins> right_area{};
-  std::array<AABB, kMaxBins> right_box{};
+  std::array<float, kMaxBins> right_area;
+  thread_local std::vector<AABB> right_box;
+  right_box.resize(bin_count);
   for (int a = 0; a < 3; ++a) {
     if (scale[a] == 0.0f || !(scale[a] < std::numeric_limits<float>::infinity())) continue;
     AABB acc;
     std::uint32_t right_count = 0;
-    std::array<std::uint32_t, kMaxBins> right_counts{};
+    std::array<std::uint32_t, kMaxBins> right_counts;
+    right_counts[0] = 0;
     for (std::uint32_t i = bin_count - 1; i > 0; --i) {
       acc.extend(bins[a][i].box);
       right_count += bins[a][i].count;

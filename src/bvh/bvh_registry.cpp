@@ -5,6 +5,9 @@
 #include <string>
 
 #include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bv/kdop_volume.h"
+#include "rayaccel/bv/obb_volume.h"
+#include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/core/error.h"
 
@@ -24,6 +27,11 @@ std::unique_ptr<Accelerator> make_bvh(const BvhConfig& config) {
 
 const VolumeEntry kVolumes[] = {
     {AabbVolume::kName, &make_bvh<AabbVolume>},
+    {SphereVolume::kName, &make_bvh<SphereVolume>},
+    {ObbVolume::kName, &make_bvh<ObbVolume>},
+    {Kdop14Volume::kName, &make_bvh<Kdop14Volume>},
+    {Kdop18Volume::kName, &make_bvh<Kdop18Volume>},
+    {Kdop26Volume::kName, &make_bvh<Kdop26Volume>},
 };
 
 constexpr BvhBuilder kBuilders[] = {BvhBuilder::binned, BvhBuilder::sweep, BvhBuilder::sbvh, BvhBuilder::lbvh,

@@ -1,5 +1,4 @@
-// The builder dispatch of Bvh<BV> (one table from BvhBuilder to builder), the configuration check, and the clipped
-// polygon of an SBVH reference.
+// The builder dispatch of Bvh<BV> (one table from BvhBuilder to builder) and the configuration check.
 #include <string>
 
 #include "rayaccel/bvh/binned_sah_builder.h"
@@ -41,20 +40,6 @@ void check_config(const BvhConfig& c) {
   if (c.ploc_radius < 1 || c.ploc_radius > 256) {
     throw Error("bvh: ploc_radius " + std::to_string(c.ploc_radius) + " is outside 1..256");
   }
-}
-
-int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out) {
-  const AABB clip_box = widen_for_clipping(box);
-  ClippedPolygon scratch;
-  out[0] = triangle[0];
-  out[1] = triangle[1];
-  out[2] = triangle[2];
-  int n = 3;
-  for (int axis = 0; axis < 3 && n > 0; ++axis) {
-    n = clip_polygon_to_axis_plane(out.data(), n, axis, clip_box.lo[axis], false, scratch.data());
-    if (n > 0) n = clip_polygon_to_axis_plane(scratch.data(), n, axis, clip_box.hi[axis], true, out.data());
-  }
-  return n;
 }
 
 BuildTree build_bvh_shape(const Scene& scene, const BvhConfig& c) {

@@ -15,6 +15,7 @@ namespace rayaccel {
 namespace {
 
 constexpr std::uint32_t kMaxBins = 64;
+constexpr std::size_t kClippedPolygonRoom = std::tuple_size_v<ClippedPolygon>;
 
 struct SpatialSplit {
   int axis = -1;
@@ -122,7 +123,18 @@ class SbvhBuilder {
           box[b0].extend(r.bounds);
           continue;
         }
-        for (std::uint32_t k = b0; k <= b1; ++k) box[k].extend(part_bounds(r, axis, plane[k], plane[k + 1]));
+        // Cost estimate only (the partition clips exactly): clip the triangle to the reference once, then the
+        // polygon to each bin's slab.
+        ClippedPolygon poly;
+        std::array<Vec3, kClippedPolygonRoom + 2> slab, part;  // each clip adds at most one vertex
+        const int n = clip_triangle_polygon(scene_.triangle(r.prim_id), r.bounds, poly);
+        for (std::uint32_t k = b0; k <= b1; ++k) {
+          int m = clip_polygon_to_axis_plane(poly.data(), n, axis, plane[k], false, slab.data());
+          m = m > 0 ? clip_polygon_to_axis_plane(slab.data(), m, axis, plane[k + 1], true, part.data()) : 0;
+          AABB b;
+          for (int v = 0; v < m; ++v) b.extend(part[v]);
+          box[k].extend(intersection(b, r.bounds));
+        }
       }
       std::array<float, kMaxBins> right_cost{};
       std::array<std::uint32_t, kMaxBins> right_count{};
@@ -188,6 +200,20 @@ class SbvhBuilder {
 };
 
 }  // namespace
+
+int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out) {
+  const AABB clip_box = widen_for_clipping(box);
+  ClippedPolygon scratch;
+  out[0] = triangle[0];
+  out[1] = triangle[1];
+  out[2] = triangle[2];
+  int n = 3;
+  for (int axis = 0; axis < 3 && n > 0; ++axis) {
+    n = clip_polygon_to_axis_plane(out.data(), n, axis, clip_box.lo[axis], false, scratch.data());
+    if (n > 0) n = clip_polygon_to_axis_plane(scratch.data(), n, axis, clip_box.hi[axis], true, out.data());
+  }
+  return n;
+}
 
 BuildTree build_sbvh(const Scene& scene, const SbvhConfig& config) {
   if (config.bin_count < 2 || config.bin_count > kMaxBins) {

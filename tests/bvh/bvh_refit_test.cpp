@@ -49,3 +49,35 @@ INSTANTIATE_TEST_SUITE_P(AllBuilders, BvhRefit,
 
 }  // namespace
 }  // namespace rayaccel
+
+namespace rayaccel {
+namespace {
+
+/// Long thin triangles, so the SBVH really duplicates references before the refit.
+TEST(BvhRefitSbvh, DuplicatedReferencesSurviveRefit) {
+  TriangleMesh mesh;
+  for (std::uint32_t i = 0; i < 300; ++i) {
+    const float o = 0.01f * static_cast<float>(i);
+    mesh.vertices.push_back({o, 0, 0});
+    mesh.vertices.push_back({o + 1, 1, 1});
+    mesh.vertices.push_back({o + 1.002f, 1, 1});
+    mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  Scene scene = Scene::from_mesh(mesh, "slivers");
+  BvhConfig config;
+  config.builder = BvhBuilder::sbvh;
+  Bvh<AabbVolume> bvh(config);
+  bvh.build(scene);
+  double refs = 0;
+  for (const auto& s : bvh.build_statistics()) refs = s.name == "references_per_primitive" ? s.value : refs;
+  ASSERT_GT(refs, 1.05);
+  for (Vec3& v : mesh.vertices) v = Vec3{v.x, v.y + 0.3f * std::sin(3.0f * v.x), v.z};
+  scene.set_vertices(mesh.vertices);
+  bvh.refit();
+  const auto problems = bvh.validate();
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  bvh_test::expect_agrees_with_brute_force(bvh, scene, bvh_test::random_rays(scene.bounds(), 1500, 61), "sbvh refit");
+}
+
+}  // namespace
+}  // namespace rayaccel

@@ -15,6 +15,7 @@
 #include "rayaccel/bv/aabb_volume.h"
 #include "rayaccel/bv/bounding_volume.h"
 #include "rayaccel/bvh/build_tree.h"
+#include "rayaccel/bvh/sbvh_builder.h"
 #include "rayaccel/core/scene.h"
 #include "rayaccel/geometry/clip_polygon.h"
 #include "rayaccel/geometry/ray_triangle.h"
@@ -43,13 +44,6 @@ void check_config(const BvhConfig& config);
 /// Runs the configured builder over the scene's references. SBVH clips triangles to split planes; for other
 /// primitive kinds it makes object splits only.
 BuildTree build_bvh_shape(const Scene& scene, const BvhConfig& config);
-
-/// Room for a triangle clipped by a box's six planes (9 vertices) plus the one spare clip_polygon_to_axis_plane needs.
-using ClippedPolygon = std::array<Vec3, 10>;
-
-/// Clips triangle (a, b, c) to `box` widened by widen_for_clipping() and returns the vertex count of the polygon left
-/// in `out` (0 when the triangle misses the box): the points a volume is fitted to for one SBVH reference.
-int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out);
 
 /// Node of the flat depth-first array. Children of an interior node: the next node and nodes[index].
 template <BoundingVolume BV>
@@ -106,12 +100,16 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
  private:
   friend struct BvhTestAccess;
 
+  /// Flattened: every volume and triangle test is inlined into the loop (GCC otherwise keeps the slab test out of
+  /// line, a call per child visited).
   template <bool AnyHit, bool Triangles, class Stats>
-  void trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  [[gnu::flatten]] void trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const;
 
   void flatten(const BuildTree& tree);
   /// Points whose hull encloses the part of a primitive one slot covers; returns their count.
   int slot_points(std::uint32_t slot, ClippedPolygon& out) const;
+  /// Box of the hull points of slots [begin, end).
+  AABB slot_box(std::uint32_t begin, std::uint32_t end) const;
   void copy_triangles();
   void fit_volumes();
   void compute_statistics(double build_ms);
@@ -122,6 +120,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   std::vector<std::uint32_t> prim_ids_;         ///< per slot: the scene's primitive id
   std::vector<std::array<Vec3, 3>> triangles_;  ///< per slot, triangle scenes only: the vertices, in leaf order
   std::vector<AABB> part_bounds_;               ///< per slot, SBVH only: box of the part of the primitive covered
+  bool spatial_splits_ = false;                 ///< a primitive may be referenced by several leaves (SBVH)
   std::vector<BuildStatistic> statistics_;
   int depth_ = 0;
 };

@@ -31,7 +31,7 @@ struct BvhFileHeader {
   std::uint32_t node_count;        // 4
   std::uint32_t slot_count;        // 4
   std::uint32_t part_count;        // 4: slot_count for SBVH trees, else 0
-  std::uint32_t reserved;          // 4: zero
+  std::uint32_t flags;             // 4: bit 0: spatial splits (a primitive may be in several leaves)
 };
 static_assert(sizeof(BvhFileHeader) == 80, "the header is written as raw bytes");
 

@@ -36,6 +36,7 @@ void Bvh<BV>::flatten(const BuildTree& tree) {
   nodes_.clear();
   prim_ids_.clear();
   part_bounds_.clear();
+  spatial_splits_ = tree.spatial_splits;
   depth_ = 0;
   if (tree.nodes.empty()) return;
   nodes_.reserve(tree.nodes.size());
@@ -76,7 +77,9 @@ void Bvh<BV>::copy_triangles() {
   triangles_.clear();
   if (scene_->kind() != PrimitiveKind::triangles) return;
   triangles_.resize(prim_ids_.size());
-  for (std::size_t i = 0; i < prim_ids_.size(); ++i) triangles_[i] = scene_->triangle(prim_ids_[i]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prim_ids_.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) triangles_[i] = scene_->triangle(prim_ids_[i]);
+  });
 }
 
 template <BoundingVolume BV>
@@ -92,24 +95,37 @@ int Bvh<BV>::slot_points(std::uint32_t slot, ClippedPolygon& out) const {
 }
 
 template <BoundingVolume BV>
+AABB Bvh<BV>::slot_box(std::uint32_t begin, std::uint32_t end) const {
+  AABB box;
+  if (part_bounds_.empty()) {
+    // The box of a primitive's hull points is its bounds (triangle vertices, or the corners of the box).
+    for (std::uint32_t s = begin; s < end; ++s) box.extend(scene_->primitive_bounds(prim_ids_[s]));
+    return box;
+  }
+  ClippedPolygon points;
+  for (std::uint32_t s = begin; s < end; ++s) {
+    const int n = slot_points(s, points);
+    for (int k = 0; k < n; ++k) box.extend(points[k]);
+  }
+  return box;
+}
+
+template <BoundingVolume BV>
 void Bvh<BV>::fit_volumes() {
   const auto node_count = nodes_.size();
   if (node_count == 0) return;
   if constexpr (std::is_same_v<BV, AabbVolume>) {
-    // Children follow their parent in the array, so one backward pass sees every child before its parent.
+    // Leaves in parallel; then, as children follow their parent in the array, one backward pass merges every
+    // child into its parent.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, node_count, 4096), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        Node& node = nodes_[i];
+        if (node.is_leaf()) node.volume.box = slot_box(node.index, node.index + node.count);
+      }
+    });
     for (std::size_t i = node_count; i-- > 0;) {
       Node& node = nodes_[i];
-      if (node.is_leaf()) {
-        AABB box;
-        ClippedPolygon points;
-        for (std::uint32_t s = node.index; s < node.index + node.count; ++s) {
-          const int n = slot_points(s, points);
-          for (int k = 0; k < n; ++k) box.extend(points[k]);
-        }
-        node.volume.box = box;
-      } else {
-        node.volume.box = merge(nodes_[i + 1].volume.box, nodes_[node.index].volume.box);
-      }
+      if (!node.is_leaf()) node.volume.box = merge(nodes_[i + 1].volume.box, nodes_[node.index].volume.box);
     }
   } else {
     // Every subtree's slots are one contiguous range (leaves are laid out depth-first), so each node is fitted
@@ -166,16 +182,14 @@ void Bvh<BV>::compute_statistics(double build_ms) {
   double sah = 0.0, tightness = 0.0;
   std::size_t tightness_count = 0;
   if (!nodes_.empty()) {
-    // Box of each node's contents, to compare the fitted volume's area with.
+    // Box of each node's contents, to compare the fitted volume's area with (an AABB volume is that box).
     std::vector<AABB> content(nodes_.size());
-    ClippedPolygon points;
     for (std::size_t i = nodes_.size(); i-- > 0;) {
       const Node& node = nodes_[i];
-      if (node.is_leaf()) {
-        for (std::uint32_t s = node.index; s < node.index + node.count; ++s) {
-          const int n = slot_points(s, points);
-          for (int k = 0; k < n; ++k) content[i].extend(points[k]);
-        }
+      if (std::is_same_v<BV, AabbVolume>) {
+        content[i] = node.volume.bounds();
+      } else if (node.is_leaf()) {
+        content[i] = slot_box(node.index, node.index + node.count);
       } else {
         content[i] = merge(content[i + 1], content[node.index]);
       }

@@ -32,6 +32,7 @@ void Bvh<BV>::save(const std::filesystem::path& path) const {
   h.node_count = static_cast<std::uint32_t>(nodes_.size());
   h.slot_count = static_cast<std::uint32_t>(prim_ids_.size());
   h.part_count = static_cast<std::uint32_t>(part_bounds_.size());
+  h.flags = spatial_splits_ ? 1u : 0u;
   std::vector<std::byte> bytes;
   auto append = [&bytes](const void* data, std::size_t size) {
     const auto* p = static_cast<const std::byte*>(data);
@@ -74,6 +75,9 @@ void Bvh<BV>::load(const std::filesystem::path& path, const Scene& scene) {
                 std::to_string(scene.primitive_count()) + " and/or other geometry)");
   }
   if (h.part_count != 0 && h.part_count != h.slot_count) throw Error(where + "inconsistent part count");
+  if (h.builder > static_cast<std::uint32_t>(BvhBuilder::ploc) || h.flags > 1) {
+    throw Error(where + "unknown builder or flags in the header");
+  }
   const std::size_t expected = sizeof h + std::size_t{h.node_count} * sizeof(Node) +
                                std::size_t{h.slot_count} * sizeof(std::uint32_t) +
                                std::size_t{h.part_count} * sizeof(AABB) + sizeof(std::uint64_t);
@@ -94,6 +98,7 @@ void Bvh<BV>::load(const std::filesystem::path& path, const Scene& scene) {
   config_ = config;
   scene_ = &scene;
   depth_ = static_cast<int>(h.depth);
+  spatial_splits_ = (h.flags & 1u) != 0;
   const std::byte* p = bytes.data() + sizeof h;
   nodes_.resize(h.node_count);
   std::memcpy(nodes_.data(), p, nodes_.size() * sizeof(Node));

@@ -104,7 +104,7 @@ std::vector<std::string> Bvh<BV>::validate() const {
              " lies outside the primitive's bounds");
     }
   }
-  const bool spatial = !part_bounds_.empty();
+  const bool spatial = spatial_splits_;
   for (std::uint32_t id = 0; id < scene_->primitive_count(); ++id) {
     if (!scene_->is_valid(id)) continue;
     if (refs_per_prim[id] == 0 || (!spatial && refs_per_prim[id] > 1)) {
@@ -126,14 +126,14 @@ std::vector<std::string> Bvh<BV>::validate() const {
     bool inside = true;
     for (std::uint32_t s = slot_range[i][0]; s < slot_range[i][1] && inside; ++s) {
       const int n = slot_points(s, points);
-      if (n == 0 && spatial) {
+      if (n == 0 && !part_bounds_.empty()) {
         report("slot " + std::to_string(s) + ": the clipped part of primitive " + std::to_string(prim_ids_[s]) +
                " is empty");
       }
       for (int k = 0; k < n && inside; ++k) inside = nodes_[i].volume.contains(points[k]);
       if (!inside) {
         report(std::string(nodes_[i].is_leaf() ? "leaf " : "node ") + std::to_string(i) + ": primitive " +
-               std::to_string(prim_ids_[s]) + (spatial ? " (its clipped part)" : "") + " is outside the volume");
+               std::to_string(prim_ids_[s]) + (part_bounds_.empty() ? "" : " (its clipped part)") + " is outside the volume");
       }
     }
   }

@@ -3,6 +3,7 @@
 // node's box and each side keeps the bounds of its part, so a primitive may be referenced by several leaves.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +20,13 @@ struct SbvhConfig {
   float overlap_alpha = 1e-5f;      ///< spatial splits are tried when the best object split's children overlap by
                                     ///< more than this fraction of the root's area (the paper's alpha)
 };
+
+/// Room for a triangle clipped by a box's six planes (9 vertices) plus the one spare clip_polygon_to_axis_plane needs.
+using ClippedPolygon = std::array<Vec3, 10>;
+
+/// Clips triangle (a, b, c) to `box` widened by widen_for_clipping() and returns the vertex count of the polygon left
+/// in `out` (0 when the triangle misses the box): the points a volume is fitted to for one SBVH reference.
+int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out);
 
 /// Builds over the scene's references. Triangles are clipped; for spheres and user primitives only object splits
 /// are made (the result is then an ordinary binned SAH tree without reference duplication).
