@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
@@ -86,8 +87,17 @@ class ReferenceCheck {
   const std::vector<Workload>& workloads_;
   bool from_embree_ = false;
   std::size_t sample_size_ = 0;
+  /// Brute force's answer to a ray on which a structure and Embree disagreed.
+  struct Settled {
+    Hit hit;
+    bool occluded = false;
+  };
+  /// Settles the given disagreements of one workload (indices into its Answers) by brute force, once per ray.
+  void settle(std::size_t workload, const std::vector<std::size_t>& indices) const;
+
   BruteForce oracle_;
   std::vector<Answers> answers_;
+  mutable std::vector<std::unordered_map<std::size_t, Settled>> settled_;  ///< per workload: ray index -> answer
 };
 
 /// The aligned per-scene table on stdout, with ratios to the Embree row when there is one.

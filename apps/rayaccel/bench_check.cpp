@@ -14,7 +14,6 @@ namespace {
 
 constexpr double kEmbreeTolerance = 1e-4;  // relative t difference allowed between Embree's kernel and ours
 constexpr double kOracleTolerance = 1e-6;  // same kernel: only ties in t may pick another primitive
-constexpr std::size_t kMaxArbitrations = 1000;  // brute-force re-checks per structure and workload
 constexpr std::size_t kExamples = 5;
 
 /// Same answer: both miss, or both hit the same primitive or at t within a relative tolerance (a tie in t).
@@ -40,6 +39,7 @@ ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& 
                                std::size_t sample_size)
     : scene_(scene), workloads_(workloads), from_embree_(embree != nullptr), sample_size_(sample_size) {
   oracle_.build(scene);
+  settled_.resize(workloads.size());
   for (const Workload& w : workloads) {
     Answers a;
     const std::size_t n = w.rays.size();
@@ -65,6 +65,28 @@ std::string ReferenceCheck::description() const {
                       : fmt::format("brute force on a sample of up to {} rays per ray kind", sample_size_);
 }
 
+void ReferenceCheck::settle(std::size_t workload, const std::vector<std::size_t>& indices) const {
+  const Workload& w = workloads_[workload];
+  auto& settled = settled_[workload];
+  std::vector<std::size_t> todo;
+  for (std::size_t i : indices) {
+    if (!settled.count(i)) todo.push_back(i);
+  }
+  if (todo.empty()) return;
+  // One parallel brute-force batch for every new disagreement; the answers are kept for the next structures.
+  std::vector<Ray> rays(todo.size());
+  for (std::size_t j = 0; j < todo.size(); ++j) rays[j] = w.rays[answers_[workload].indices[todo[j]]];
+  if (w.any_hit()) {
+    std::vector<std::uint8_t> occluded(rays.size());
+    oracle_.occluded(rays, occluded);
+    for (std::size_t j = 0; j < todo.size(); ++j) settled[todo[j]].occluded = occluded[j] != 0;
+  } else {
+    std::vector<Hit> hits(rays.size());
+    oracle_.intersect(rays, hits);
+    for (std::size_t j = 0; j < todo.size(); ++j) settled[todo[j]].hit = hits[j];
+  }
+}
+
 void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& kinds) const {
   for (std::size_t k = 0; k < workloads_.size(); ++k) {
     const Workload& w = workloads_[k];
@@ -80,23 +102,25 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
       accel.intersect(rays, hits);
     }
     result.checked = rays.size();
-    std::size_t arbitrations = 0, examples = 0;
+    const double tolerance = from_embree_ ? kEmbreeTolerance : kOracleTolerance;
+    std::vector<std::size_t> disagreements;
     for (std::size_t i = 0; i < rays.size(); ++i) {
-      const double tolerance = from_embree_ ? kEmbreeTolerance : kOracleTolerance;
       const bool agrees = w.any_hit() ? occluded[i] == a.occluded[i] : same_hit(hits[i], a.hits[i], tolerance);
-      if (agrees) continue;
+      if (!agrees) disagreements.push_back(i);
+    }
+    if (from_embree_) settle(k, disagreements);
+    std::size_t examples = 0;
+    for (std::size_t i : disagreements) {
       bool mismatch = true;
       std::string oracle_text;
-      if (from_embree_ && arbitrations < kMaxArbitrations) {
-        ++arbitrations;
+      if (from_embree_) {
+        const Settled& truth = settled_[k].at(i);
         if (w.any_hit()) {
-          const bool truth = oracle_.occluded(rays[i]);
-          mismatch = (occluded[i] != 0) != truth;
-          oracle_text = truth ? "occluded" : "not occluded";
+          mismatch = (occluded[i] != 0) != truth.occluded;
+          oracle_text = truth.occluded ? "occluded" : "not occluded";
         } else {
-          const Hit truth = oracle_.intersect(rays[i]);
-          mismatch = !same_hit(hits[i], truth, kOracleTolerance);
-          oracle_text = describe(truth);
+          mismatch = !same_hit(hits[i], truth.hit, kOracleTolerance);
+          oracle_text = describe(truth.hit);
         }
       }
       if (!mismatch) {

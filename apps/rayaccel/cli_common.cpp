@@ -193,8 +193,11 @@ std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads) 
 
 std::string default_accelerator_spec() {
   const auto& registry = accelerator_registry();
-  for (const auto& info : registry) {
-    if (info.name == "bvh") return info.name;
+  // The fastest structure first (the wide SIMD BVH), then the binary BVH.
+  for (const char* preferred : {"bvh_wide", "bvh"}) {
+    for (const auto& info : registry) {
+      if (info.name == preferred) return info.name;
+    }
   }
   for (const auto& info : registry) {
     if (info.name != "brute_force") return info.name;

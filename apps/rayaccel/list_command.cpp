@@ -51,6 +51,11 @@ void print_structures() {
   }
   fmt::print("\nSpec syntax: NAME or NAME:key=value,key=value (e.g. --accel '{}')\n",
              accelerator_variant_names().back());
+#ifdef RAYACCEL_HAVE_EMBREE
+  fmt::print("Comparison: 'bench --compare embree' and '--accel embree' use Embree 3 (found at build time)\n");
+#else
+  fmt::print("Comparison: Embree was not found at build time; 'bench --compare embree' is unavailable\n");
+#endif
   fmt::print("\nBuilt-in scenes (builtin:NAME[:key=value,...]):\n");
   for (const auto& scene : builtin_scenes()) {
     std::vector<std::string> params;

@@ -14,9 +14,7 @@
 namespace rayaccel {
 
 int kd_tree_max_depth(const KdTreeOptions& options, std::size_t n) {
-  if (options.max_depth > 0) return std::min(options.max_depth, kKdMaxDepth);
-  const double automatic = std::round(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1))));
-  return std::min(static_cast<int>(automatic), kKdMaxDepth);
+  return split_tree_depth_limit(options.max_depth, n);
 }
 
 namespace {
@@ -67,7 +65,8 @@ class MedianBuilder {
         if (r.bounds.lo[axis] <= split) add_clipped(below, r.prim_id, child_cell(cell, axis, split, false));
         if (r.bounds.hi[axis] >= split) add_clipped(above, r.prim_id, child_cell(cell, axis, split, true));
       }
-      can_split = below.size() < n || above.size() < n;  // no progress when every reference straddles
+      // Stop where a side does not shrink: below that, straddling references would only be copied again.
+      can_split = below.size() < n && above.size() < n;
     }
     if (!can_split) {
       std::vector<std::uint32_t> prims(n);

@@ -55,8 +55,9 @@ void TwoLevelGrid::build(const Scene& scene) {
     return;
   }
   const AABB box = padded_scene_box(scene.bounds());
-  top_ = GridFrame::make(box, grid_resolution(box.extent(), refs.size(), options_.top_density,
-                                              options_.max_resolution, options_.max_cells));
+  top_ = GridFrame::make(box, limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.top_density,
+                                                                 options_.max_resolution, options_.max_cells),
+                                                 box));
   pad_ = cell_padding(box);
   const CellLists top_lists = bin_primitives(scene, refs, top_, pad_, exact_used_);
 
@@ -84,8 +85,9 @@ void TwoLevelGrid::build(const Scene& scene) {
       for (int a = 0; a < 3; ++a) {
         if (!(sub.hi[a] - sub.lo[a] >= pad_)) { sub.lo[a] -= pad_; sub.hi[a] += pad_; }
       }
-      const auto res = grid_resolution(sub.extent(), cell_refs.size(), options_.leaf_density,
-                                       options_.max_leaf_resolution, 1u << 21);
+      const auto res = limit_to_precision(grid_resolution(sub.extent(), cell_refs.size(), options_.leaf_density,
+                                                          options_.max_leaf_resolution, 1u << 21),
+                                          sub);
       SubGrid& g = grids[i];
       g.box = sub;
       g.first_cell = 0;

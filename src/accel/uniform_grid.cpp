@@ -38,8 +38,9 @@ void UniformGrid::build(const Scene& scene) {
     return;
   }
   const AABB box = padded_scene_box(scene.bounds());
-  frame_ = GridFrame::make(box, grid_resolution(box.extent(), refs.size(), options_.density,
-                                                options_.max_resolution, options_.max_cells));
+  frame_ = GridFrame::make(box, limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.density,
+                                                                   options_.max_resolution, options_.max_cells),
+                                                   box));
   pad_ = cell_padding(box);
   lists_ = bin_primitives(scene, refs, frame_, pad_, exact_used_);
 }

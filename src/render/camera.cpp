@@ -62,20 +62,31 @@ Camera Camera::framing(const AABB& box) {
   const Vec3 center{static_cast<float>(0.5 * (double(box.lo.x) + box.hi.x)),
                     static_cast<float>(0.5 * (double(box.lo.y) + box.hi.y)),
                     static_cast<float>(0.5 * (double(box.lo.z) + box.hi.z))};
-  double radius = 0.5 * std::sqrt(ex * ex + ey * ey + ez * ez);
-  // A single point: pick a small distance relative to its coordinates so the eye differs from it in float.
-  const double magnitude = max_component(abs(center));
-  radius = std::fmax(radius, std::fmax(magnitude * 1e-3, 1e-3));
+  // A single point still needs a distance, small but resolvable at the magnitude of its coordinates.
+  const double radius =
+      std::fmax(0.5 * std::sqrt(ex * ex + ey * ey + ez * ez), std::fmax(max_component(abs(center)) * 1e-3, 1e-3));
 
   Camera cam;
   cam.fov_degrees = kDefaultFramingFov;
   cam.at = center;
   cam.up = {0.0f, 1.0f, 0.0f};
-  const double half_fov = kDefaultFramingFov * std::numbers::pi / 360.0;
-  const double distance = 1.1 * radius / std::sin(half_fov);  // the bounding sphere fits with a 10% margin
   const Vec3 view = normalize(Vec3{0.55f, 0.4f, 1.0f});  // from the front right, a little above
+  const Vec3 right = normalize(cross(-view, cam.up));
+  const Vec3 image_up = cross(right, -view);
+  // The nearest eye distance at which every box corner projects inside 90% of the (square) image: a corner at
+  // offset p from the center lies at depth distance - dot(p, view) and needs |lateral offset| / depth <= limit.
+  const double limit = 0.9 * std::tan(kDefaultFramingFov * std::numbers::pi / 360.0);
+  double distance = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 c{(corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
+                 (corner & 4) ? box.hi.z : box.lo.z};
+    const Vec3 p = c - center;
+    const double lateral = std::fmax(std::fabs(dot(p, right)), std::fabs(dot(p, image_up)));
+    distance = std::fmax(distance, dot(p, view) + std::fmax(lateral / limit, 0.5 * radius));
+  }
   cam.eye = {static_cast<float>(center.x + view.x * distance), static_cast<float>(center.y + view.y * distance),
              static_cast<float>(center.z + view.z * distance)};
+  if (!is_finite(cam.eye)) return Camera{};  // a box near the float range: no finite eye frames it
   return cam;
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <string>
+#include <vector>
 
 #include "rayaccel/render/bitmap_font.h"
 #include "rayaccel/render/colormap.h"
@@ -21,12 +22,13 @@ int legend_scale(int width, int height) { return std::max(1, (std::min(width, he
 
 CostRange cost_range(std::span<const TraversalStats> stats) {
   if (stats.empty()) return {};
-  CostRange r{traversal_cost(stats[0]), traversal_cost(stats[0])};
-  for (const TraversalStats& s : stats) {
-    const std::uint64_t c = traversal_cost(s);
-    r.min = std::min(r.min, c);
-    r.max = std::max(r.max, c);
-  }
+  std::vector<std::uint64_t> costs(stats.size());
+  std::transform(stats.begin(), stats.end(), costs.begin(), traversal_cost);
+  const auto [lowest, highest] = std::minmax_element(costs.begin(), costs.end());
+  CostRange r{*lowest, 0, *highest};
+  const auto quantile = costs.begin() + static_cast<std::ptrdiff_t>(kHeatScalePercentile * (costs.size() - 1));
+  std::nth_element(costs.begin(), quantile, costs.end());
+  r.max = *quantile;
   return r;
 }
 
@@ -57,13 +59,18 @@ void draw_heat_legend(Image& image, const CostRange& range) {
   }
 
   const int label_y = bar_y + bar_h + 2 * s;
-  const std::string lo = std::to_string(range.min), hi = std::to_string(range.max);
+  const bool clipped = range.highest > range.max;
+  const std::string lo = std::to_string(range.min), hi = std::to_string(range.max) + (clipped ? "+" : "");
   const int lo_w = text_width(lo, s), hi_w = text_width(hi, s);
   draw_text(image, lo, bar_x, label_y, s, kText);
   const int hi_x = bar_x + bar_w - hi_w;
   if (hi_x > bar_x + lo_w + kGlyphAdvance * s) draw_text(image, hi, hi_x, label_y, s, kText);
   // The caption goes in the middle only when it leaves at least two glyphs of space to either label.
-  for (const char* caption : {"COST = NODES+PRIMS", "COST"}) {
+  const std::string most = ", MAX " + std::to_string(range.highest);
+  const std::vector<std::string> captions =
+      clipped ? std::vector<std::string>{"COST = NODES+PRIMS" + most, "COST" + most, most.substr(2), "COST"}
+              : std::vector<std::string>{"COST = NODES+PRIMS", "COST"};
+  for (const std::string& caption : captions) {
     const int w = text_width(caption, s);
     const int x = bar_x + (bar_w - w) / 2;
     if (x >= bar_x + lo_w + 2 * kGlyphAdvance * s && x + w <= hi_x - 2 * kGlyphAdvance * s) {

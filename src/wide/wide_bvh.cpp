@@ -1,4 +1,4 @@
-// Wide BVH: collapse of a binary tree into four-wide nodes, Triangle4 leaf packing, validation and registration.
+// Wide BVH: collapse of a binary tree into 4- or 8-wide nodes, Triangle4 leaf packing, validation, registration.
 #include "rayaccel/wide/wide_bvh.h"
 
 #include <algorithm>
@@ -11,18 +11,29 @@ namespace rayaccel::wide {
 
 namespace {
 
-/// Exactly coincident vertex positions: such a triangle's edge functions cancel exactly, so it is never hit and can
-/// be left out of the leaves without changing any answer.
+/// Exactly coincident vertex positions: such a triangle's edge functions cancel exactly (one is 0, the other two are
+/// negatives of each other), so it is never hit and can be left out of the leaves without changing any answer.
 bool has_coincident_vertices(const std::array<Vec3, 3>& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
 
-void set_child_bounds(Node4& node, int lane, const AABB& box) {
+template <int W>
+void set_child_bounds(Node<W>& node, int lane, const AABB& box) {
   for (int a = 0; a < 3; ++a) {
     node.bounds[a][0][lane] = box.lo[a];
     node.bounds[a][1][lane] = box.hi[a];
   }
 }
 
-/// Boxes of every binary node, children before parents (BuildTree stores children after their parent).
+template <int W>
+AABB child_bounds(const Node<W>& node, int lane) {
+  AABB box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = node.bounds[a][0][lane];
+    box.hi[a] = node.bounds[a][1][lane];
+  }
+  return box;
+}
+
+/// Boxes of every binary node; BuildTree stores children after their parent, so one backward pass suffices.
 std::vector<AABB> binary_node_bounds(const BuildTree& tree) {
   std::vector<AABB> boxes(tree.nodes.size());
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
@@ -39,7 +50,12 @@ std::vector<AABB> binary_node_bounds(const BuildTree& tree) {
 
 }  // namespace
 
-std::uint32_t WideBvh4::emit_leaf(const BuildTree& tree, std::uint32_t binary_node) {
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+std::uint32_t WideBvh::emit_leaf(const BuildTree& tree, std::uint32_t binary_node) {
   const BuildNode& n = tree.nodes[binary_node];
   std::vector<std::uint32_t> ids;
   ids.reserve(n.count);
@@ -74,12 +90,13 @@ std::uint32_t WideBvh4::emit_leaf(const BuildTree& tree, std::uint32_t binary_no
   return kLeafBit | (first_block << kBlockShift) | (block_count - 1);
 }
 
-std::uint32_t WideBvh4::emit(const BuildTree& tree, std::uint32_t binary_node, int depth) {
+template <int W>
+std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, int depth, std::vector<Node<W>>& nodes) {
   depth_ = std::max(depth_, depth);
   if (tree.nodes[binary_node].is_leaf()) return emit_leaf(tree, binary_node);
-  // Open the inner child of largest surface area until four children are gathered.
+  // Open the inner child of largest surface area until W children are gathered.
   std::vector<std::uint32_t> children{tree.nodes[binary_node].first, tree.nodes[binary_node].first + 1};
-  while (children.size() < 4) {
+  while (children.size() < W) {
     int best = -1;
     float best_area = -1.0f;
     for (int i = 0; i < static_cast<int>(children.size()); ++i) {
@@ -94,65 +111,70 @@ std::uint32_t WideBvh4::emit(const BuildTree& tree, std::uint32_t binary_node, i
     children[best] = opened;
     children.push_back(opened + 1);
   }
-  const auto index = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.emplace_back();
-  Node4 node{};
-  for (int lane = 0; lane < 4; ++lane) {
+  const auto index = static_cast<std::uint32_t>(nodes.size());
+  nodes.emplace_back();
+  Node<W> node{};
+  for (int lane = 0; lane < W; ++lane) {
     node.child[lane] = kEmptyChild;
     set_child_bounds(node, lane, AABB::empty());
   }
   int lane = 0;
   for (std::uint32_t c : children) {
-    const std::uint32_t ref = emit(tree, c, depth + 1);
+    const std::uint32_t ref = emit<W>(tree, c, depth + 1, nodes);
     if (ref == kEmptyChild) continue;
     node.child[lane] = ref;
     set_child_bounds(node, lane, binary_bounds_[c]);
     ++lane;
   }
-  nodes_[index] = node;
+  nodes[index] = node;
   return lane == 0 ? kEmptyChild : index;
 }
 
-void WideBvh4::build(const Scene& scene) { build_from(scene, build_binned_sah(scene.build_references(), config_.binary)); }
+void WideBvh::build(const Scene& scene) { build_from(scene, build_binned_sah(scene.build_references(), config_.binary)); }
 
-void WideBvh4::build_from(const Scene& scene, const BuildTree& tree) {
+void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
+  if (tree.spatial_splits) throw Error("the wide BVH takes trees without spatial splits");
   scene_ = &scene;
   triangles_ = scene.kind() == PrimitiveKind::triangles;
-  nodes_.clear();
+  width_ = config_.width == 8 || (config_.width == 0 && cpu_has_avx2()) ? 8 : 4;
+  if (width_ == 8 && !cpu_has_avx2()) width_ = 4;  // width=8 asked on a CPU without AVX2: same tree shape rules, SSE
+  nodes4_.clear();
+  nodes8_.clear();
   blocks_.clear();
   depth_ = 0;
   skipped_degenerate_ = 0;
-  if (tree.spatial_splits) throw Error("the wide BVH takes trees without spatial splits");
   binary_bounds_ = binary_node_bounds(tree);
-  root_ = tree.nodes.empty() ? kEmptyChild : emit(tree, 0, 1);
+  if (tree.nodes.empty()) {
+    root_ = kEmptyChild;
+  } else {
+    root_ = width_ == 8 ? emit<8>(tree, 0, 1, nodes8_) : emit<4>(tree, 0, 1, nodes4_);
+  }
   binary_bounds_ = {};
-  if (3 * depth_ + 4 > kStackSize) {
+  if (depth_ > kBvhMaxDepth) {
     throw Error("wide BVH: tree depth " + std::to_string(depth_) + " exceeds the traversal stack bound");
   }
 }
 
-std::size_t WideBvh4::memory_bytes() const {
-  return nodes_.size() * sizeof(Node4) + blocks_.size() * sizeof(Triangle4);
+std::size_t WideBvh::memory_bytes() const {
+  return nodes4_.size() * sizeof(Node<4>) + nodes8_.size() * sizeof(Node<8>) + blocks_.size() * sizeof(Triangle4);
 }
 
-std::vector<BuildStatistic> WideBvh4::build_statistics() const {
+std::vector<BuildStatistic> WideBvh::build_statistics() const {
   std::size_t used_lanes = 0;
   for (const auto& b : blocks_) {
     for (std::uint32_t id : b.prim_id) used_lanes += id != kInvalidPrimId ? 1 : 0;
   }
-  return {{"nodes", double(nodes_.size())},
+  return {{"width", double(width_)},
+          {"nodes", double(nodes4_.size() + nodes8_.size())},
           {"triangle4_blocks", double(blocks_.size())},
           {"block_fill", blocks_.empty() ? 0.0 : double(used_lanes) / (4.0 * blocks_.size())},
           {"depth", double(depth_)},
           {"skipped_coincident_vertex_triangles", double(skipped_degenerate_)}};
 }
 
-std::vector<std::string> WideBvh4::validate() const {
-  std::vector<std::string> problems;
-  if (!scene_) return {"not built"};
+template <int W>
+void WideBvh::validate_nodes(const std::vector<Node<W>>& nodes, std::vector<std::string>& problems) const {
   std::vector<std::uint8_t> seen(scene_->primitive_count(), 0);
-  // Walk the tree: every block referenced once, every triangle inside its parent's child box, every valid
-  // non-degenerate primitive exactly once.
   struct Item {
     std::uint32_t ref;
     AABB box;
@@ -160,13 +182,13 @@ std::vector<std::string> WideBvh4::validate() const {
   };
   std::vector<Item> todo;
   if (root_ != kEmptyChild) todo.push_back({root_, scene_->bounds(), 1});
-  while (!todo.empty()) {
+  while (!todo.empty() && problems.size() < 20) {
     const Item item = todo.back();
     todo.pop_back();
-    if (item.depth * 3 + 4 > kStackSize) problems.push_back("depth exceeds the traversal stack bound");
+    if (item.depth > kBvhMaxDepth) problems.push_back("depth exceeds the traversal stack bound");
     if (item.ref & kLeafBit) {
-      const std::uint32_t first = (item.ref & ~kLeafBit) >> kBlockShift;
-      const std::uint32_t count = (item.ref & ((1u << kBlockShift) - 1)) + 1;
+      const std::uint32_t first = leaf_first_block(item.ref);
+      const std::uint32_t count = leaf_block_count(item.ref);
       if (first + count > blocks_.size()) {
         problems.push_back("leaf block range out of bounds");
         continue;
@@ -183,49 +205,72 @@ std::vector<std::string> WideBvh4::validate() const {
           if (!item.box.contains(scene_->primitive_bounds(id))) {
             problems.push_back("primitive " + std::to_string(id) + " lies outside its leaf box");
           }
+          if (triangles_) {
+            const auto& tri = scene_->triangle(id);
+            for (int v = 0; v < 3; ++v) {
+              for (int a = 0; a < 3; ++a) {
+                if (blocks_[b].vertex[v][a][lane] != tri[v][a]) {
+                  problems.push_back("leaf copy of triangle " + std::to_string(id) + " differs from the scene");
+                }
+              }
+            }
+          }
         }
       }
       continue;
     }
-    if (item.ref >= nodes_.size()) {
+    if (item.ref >= nodes.size()) {
       problems.push_back("child reference " + std::to_string(item.ref) + " out of range");
       continue;
     }
-    const Node4& node = nodes_[item.ref];
-    for (int lane = 0; lane < 4; ++lane) {
-      if (node.child[lane] == kEmptyChild) continue;
-      AABB box;
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = node.bounds[a][0][lane];
-        box.hi[a] = node.bounds[a][1][lane];
+    const Node<W>& node = nodes[item.ref];
+    for (int lane = 0; lane < W; ++lane) {
+      if (node.child[lane] == kEmptyChild) {
+        if (!child_bounds(node, lane).is_empty()) problems.push_back("unused child slot with a non-empty box");
+        continue;
       }
+      const AABB box = child_bounds(node, lane);
       if (!item.box.contains(box)) problems.push_back("child box outside its parent box");
       todo.push_back({node.child[lane], box, item.depth + 1});
     }
   }
-  for (std::uint32_t id = 0; id < seen.size(); ++id) {
+  for (std::uint32_t id = 0; id < seen.size() && problems.size() < 20; ++id) {
     if (scene_->is_valid(id) && !seen[id] && !(triangles_ && has_coincident_vertices(scene_->triangle(id)))) {
       problems.push_back("primitive " + std::to_string(id) + " is not reachable");
-      if (problems.size() > 20) break;
     }
+  }
+}
+
+std::vector<std::string> WideBvh::validate() const {
+  if (!scene_) return {"not built"};
+  std::vector<std::string> problems;
+  if (width_ == 8) {
+    validate_nodes(nodes8_, problems);
+  } else {
+    validate_nodes(nodes4_, problems);
   }
   return problems;
 }
 
 void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
-  const BinnedSahConfig defaults;
+  const BinnedSahConfig defaults = WideBvhConfig{}.binary;
   registry.push_back(
-      {"bvh4",
-       "four-wide SIMD BVH over triangles (SSE, SoA child boxes, Triangle4 leaves), collapsed from a binned SAH tree",
-       {{"bins", OptionType::integer, std::to_string(defaults.bin_count), "SAH bins per axis of the binary build (2..64)",
+      {"bvh_wide",
+       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 when the CPU "
+       "has it",
+       {{"width", OptionType::choice, "auto", "children per node: 4 (SSE2), 8 (AVX2; 4 on CPUs without it), auto",
+         {"auto", "4", "8"}},
+        {"bins", OptionType::integer, std::to_string(defaults.bin_count), "SAH bins per axis of the binary build (2..64)",
          {}}},
-       {},
+       {"bvh_wide:width=4", "bvh_wide:width=8"},
        [](const Options& options) {
          WideBvhConfig config;
+         const std::string& width = options.get("width");
+         config.width = width == "auto" ? 0 : std::stoi(width);
          const long long bins = options.get_int("bins");
-         if (bins < 2 || bins > 64) throw Error("bvh4: bins must be in 2..64, got " + std::to_string(bins));
+         if (bins < 2 || bins > 64) throw Error("bvh_wide: bins must be in 2..64, got " + std::to_string(bins));
          config.binary.bin_count = static_cast<std::uint32_t>(bins);
-         return std::make_unique<WideBvh4>(config);
+         return std::make_unique<WideBvh>(config);
        }});
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 #include "rayaccel/core/error.h"
@@ -100,6 +101,38 @@ TEST(KdTree, DepthLimitIsHonoured) {
   accel->build(scene);
   EXPECT_LE(statistics(*accel).at("max_depth"), 5.0);
   EXPECT_TRUE(accel->validate().empty());
+}
+
+TEST(KdTree, ValidateReportsCorruptedTrees) {
+  const Scene scene = spatial_test::random_soup(500, 51);
+  KdTree tree(KdTreeOptions{});
+  tree.build(scene);
+  ASSERT_TRUE(tree.validate().empty());
+  // The tree object is not const, so writing through the const view is well defined; each edit breaks one invariant.
+  auto& data = const_cast<KdTreeData&>(tree.data());
+  const KdTreeData good = data;
+  auto first_leaf = std::find_if(data.nodes.begin(), data.nodes.end(),
+                                 [](const KdNode& n) { return n.is_leaf() && n.prim_count() > 0; });
+  ASSERT_NE(first_leaf, data.nodes.end());
+  auto interior = std::find_if(data.nodes.begin(), data.nodes.end(), [](const KdNode& n) { return !n.is_leaf(); });
+  ASSERT_NE(interior, data.nodes.end());
+
+  data.prim_indices[first_leaf->prim_offset] = (data.prim_indices[first_leaf->prim_offset] + 250) % 500;
+  EXPECT_FALSE(tree.validate().empty()) << "a reference moved to a far leaf";
+  data = good;
+  interior->split = 1e6f;
+  EXPECT_FALSE(tree.validate().empty()) << "a split outside its cell";
+  data = good;
+  first_leaf->bits = (std::uint32_t(data.prim_indices.size()) << 2) | KdNode::kLeafTag;
+  EXPECT_FALSE(tree.validate().empty()) << "a leaf range past the index array";
+  data = good;
+  interior->bits = (std::uint32_t(data.nodes.size() + 5) << 2) | std::uint32_t(interior->axis());
+  EXPECT_FALSE(tree.validate().empty()) << "a child index out of range";
+  data = good;
+  data.prim_indices.assign(data.prim_indices.size(), data.prim_indices.front());
+  EXPECT_FALSE(tree.validate().empty()) << "primitives in no leaf";
+  data = good;
+  EXPECT_TRUE(tree.validate().empty());
 }
 
 TEST(KdTree, RejectsBadOptions) {

@@ -1,5 +1,6 @@
-// Test scenes and rays for the spatial subdivisions (kd-tree, BSP tree), and the brute-force comparison both test
-// files run: adversarial cases for split planes (rays in and along planes, +-0 directions) next to random soups.
+// Test cases for the split-plane structures (kd-tree, BSP tree), built on the grids' spatial_oracle.h: one list of
+// adversarial scenes and rays (rays in and along split planes, +-0 directions, fins touching planes from one side,
+// duplicates, huge coordinates) that both test files run against brute force, with validate().
 #pragma once
 
 #include <gtest/gtest.h>
@@ -7,58 +8,27 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/scene.h"
+#include "spatial_oracle.h"
 
 namespace rayaccel::spatial_test {
 
 inline Scene random_soup(int count, std::uint32_t seed, float size = 0.1f) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> pos(-1.0f, 1.0f), off(-size, size);
-  TriangleMesh mesh;
-  for (int i = 0; i < count; ++i) {
-    const Vec3 c{pos(rng), pos(rng), pos(rng)};
-    for (int k = 0; k < 3; ++k) mesh.vertices.push_back(c + Vec3{off(rng), off(rng), off(rng)});
-    const auto b = static_cast<std::uint32_t>(3 * i);
-    mesh.triangles.push_back({b, b + 1, b + 2});
-  }
-  return Scene::from_mesh(std::move(mesh), "soup");
+  return Scene::from_mesh(testing::random_soup(std::uint32_t(count), seed, size), "soup");
 }
 
-/// A closed UV sphere of radius 1 (shared vertices, so the watertight test leaves no gaps).
 inline Scene closed_sphere(int rings, int segments) {
-  TriangleMesh mesh;
-  mesh.vertices.push_back({0, 1, 0});
-  for (int r = 1; r < rings; ++r) {
-    const double theta = std::numbers::pi * r / rings;
-    for (int s = 0; s < segments; ++s) {
-      const double phi = 2 * std::numbers::pi * s / segments;
-      mesh.vertices.push_back({float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
-                               float(std::sin(theta) * std::sin(phi))});
-    }
-  }
-  mesh.vertices.push_back({0, -1, 0});
-  const auto ring = [&](int r, int s) { return std::uint32_t(1 + (r - 1) * segments + (s % segments)); };
-  const auto bottom = std::uint32_t(mesh.vertices.size() - 1);
-  for (int s = 0; s < segments; ++s) {
-    mesh.triangles.push_back({0, ring(1, s + 1), ring(1, s)});
-    for (int r = 1; r + 1 < rings; ++r) {
-      mesh.triangles.push_back({ring(r, s), ring(r, s + 1), ring(r + 1, s)});
-      mesh.triangles.push_back({ring(r, s + 1), ring(r + 1, s + 1), ring(r + 1, s)});
-    }
-    mesh.triangles.push_back({ring(rings - 1, s), ring(rings - 1, s + 1), bottom});
-  }
-  return Scene::from_mesh(std::move(mesh), "sphere");
+  return Scene::from_mesh(testing::closed_sphere(std::uint32_t(rings), std::uint32_t(segments)), "sphere");
 }
 
-/// Unit quads (two triangles each) on the integer planes x = 0..n-1 and z = 0..n-1, each spanning [0, n-1] in its
-/// other two coordinates: every split plane a builder can pick lies on a quad, and rays along them are parallel.
+/// Quads (two triangles each) on the integer planes x = 0..n-1 and z = 0..n-1, each spanning [0, n-1] in its other
+/// two coordinates, plus fins touching those planes from one side: split planes land on the quads, and rays
+/// moving within a plane hit fins exactly on their in-plane edges.
 inline Scene quad_grid(int n) {
   TriangleMesh mesh;
   const float e = float(n - 1);
@@ -68,10 +38,23 @@ inline Scene quad_grid(int n) {
     mesh.triangles.push_back({base, base + 1, base + 2});
     mesh.triangles.push_back({base, base + 2, base + 3});
   };
+  auto triangle = [&](Vec3 a, Vec3 b, Vec3 c) {
+    const auto base = std::uint32_t(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), {a, b, c});
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  };
   for (int i = 0; i < n; ++i) {
     const float k = float(i);
     quad({k, 0, 0}, {k, e, 0}, {k, e, e}, {k, 0, e});
     quad({0, 0, k}, {e, 0, k}, {e, e, k}, {0, e, k});
+    // Fins: triangles with one edge in the plane x = k (or z = k) that reach into one side only, so a ray moving
+    // in the plane hits them on that edge and a traversal that drops either side misses some.
+    for (int j = 0; j + 1 < n; ++j) {
+      const float a = float(j) + 0.2f, b = float((i + j) % n) + 0.3f;
+      const float side = (j % 2) ? 0.4f : -0.4f;
+      triangle({k, a, b}, {k, a + 0.6f, b + 0.5f}, {k + side, a + 0.3f, b + 0.2f});
+      triangle({b, a, k}, {b + 0.5f, a + 0.6f, k}, {b + 0.2f, a + 0.3f, k - side});
+    }
   }
   return Scene::from_mesh(std::move(mesh), "quad_grid");
 }
@@ -102,17 +85,9 @@ inline Scene random_spheres(int count, std::uint32_t seed) {
   return Scene::from_spheres(std::move(spheres));
 }
 
-/// Random rays from a box around [-1.5, 1.5]^3 toward random targets in [-1, 1]^3.
+/// Random rays around the box [lo, hi]^3 (see testing::random_rays: some with +-0 components or a finite t_max).
 inline std::vector<Ray> random_rays(int count, std::uint32_t seed, float lo = -1.0f, float hi = 1.0f) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> origin(lo - 0.5f, hi + 0.5f), target(lo, hi);
-  std::vector<Ray> rays;
-  for (int i = 0; i < count; ++i) {
-    const Vec3 o{origin(rng), origin(rng), origin(rng)};
-    const Vec3 t{target(rng), target(rng), target(rng)};
-    rays.push_back({o, 0.0f, t - o, std::numeric_limits<float>::infinity()});
-  }
-  return rays;
+  return testing::random_rays(std::uint32_t(count), seed, AABB(Vec3{lo}, Vec3{hi}));
 }
 
 /// Rays that lie in integer planes (x = k or z = k) of a quad_grid(n), travelling along them with +0 and -0
@@ -144,32 +119,14 @@ inline std::vector<Ray> plane_rays(int n, std::uint32_t seed) {
   return rays;
 }
 
-/// Checks `spec` against brute force on `scene` for closest hit and any hit; `label` names the case in failures.
+/// Builds `spec` over `scene`, expects validate() to pass and every ray to agree with brute force.
 inline void expect_matches_brute_force(const std::string& spec, const Scene& scene, const std::vector<Ray>& rays,
                                        const std::string& label) {
-  BruteForce oracle;
-  oracle.build(scene);
   std::unique_ptr<Accelerator> accel = make_accelerator(spec);
   accel->build(scene);
   const std::vector<std::string> problems = accel->validate();
   EXPECT_TRUE(problems.empty()) << spec << " on " << label << ": " << (problems.empty() ? "" : problems.front());
-  int failures = 0;
-  for (std::size_t i = 0; i < rays.size() && failures < 5; ++i) {
-    const Ray& ray = rays[i];
-    const Hit want = oracle.intersect(ray);
-    const Hit got = accel->intersect(ray);
-    const bool same_t = want.t == got.t || std::fabs(want.t - got.t) <= 1e-6f * std::fabs(want.t);
-    const bool same_prim = want.prim_id == got.prim_id || (want.found() && got.found() && same_t);
-    const bool same_occlusion = oracle.occluded(ray) == accel->occluded(ray);
-    if (!same_t || !same_prim || !same_occlusion) {
-      ++failures;
-      ADD_FAILURE() << spec << " on " << label << ", ray " << i << " o=(" << ray.origin.x << "," << ray.origin.y
-                    << "," << ray.origin.z << ") d=(" << ray.direction.x << "," << ray.direction.y << ","
-                    << ray.direction.z << ") t=[" << ray.t_min << "," << ray.t_max << "]: want t=" << want.t
-                    << " prim " << want.prim_id << ", got t=" << got.t << " prim " << got.prim_id
-                    << (same_occlusion ? "" : " (occlusion differs)");
-    }
-  }
+  testing::expect_matches_brute_force(*accel, scene, rays, spec + " on " + label);
 }
 
 /// Runs the shared case list (soups, sphere, quad grid with in-plane rays, duplicates, spheres, one triangle, an
@@ -179,6 +136,12 @@ inline void run_oracle_cases(const std::string& spec) {
   expect_matches_brute_force(spec, random_soup(200, 3, 0.6f), random_rays(400, 4), "soup of large triangles");
   expect_matches_brute_force(spec, closed_sphere(12, 16), random_rays(400, 5), "closed sphere");
   expect_matches_brute_force(spec, quad_grid(6), plane_rays(6, 6), "quad grid, in-plane rays");
+  const auto unit = [](int, int k) { return float(k); };
+  const auto uneven = [](int axis, int k) { return 0.37f * float(k * k) - 1.3f + 0.1f * float(axis); };
+  expect_matches_brute_force(spec, Scene::from_mesh(testing::checkerboard_faces(4, unit)),
+                             testing::rays_along_planes(4, unit), "checkerboard, rays along planes");
+  expect_matches_brute_force(spec, Scene::from_mesh(testing::checkerboard_faces(4, uneven)),
+                             testing::rays_along_planes(4, uneven), "uneven checkerboard, rays along planes");
   expect_matches_brute_force(spec, duplicates_and_degenerates(), random_rays(300, 8), "duplicates");
   expect_matches_brute_force(spec, random_spheres(100, 9), random_rays(300, 10), "spheres");
   TriangleMesh one;

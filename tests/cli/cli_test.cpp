@@ -281,5 +281,27 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_heatmap.png"));
 }
 
+TEST(CliBench, SphereSceneIsCheckedAgainstBruteForceSample) {
+  const auto dir = fresh_directory("spheres");
+  const auto json_path = dir / "bench.json";
+  std::vector<std::string> args = {"bench", "builtin:sphereflake:level=1", "--accel", "brute_force,grid",
+                                   "--res", "8", "--repeat", "1", "--json", json_path.string()};
+#ifdef RAYACCEL_HAVE_EMBREE
+  args.insert(args.end(), {"--compare", "embree"});
+#endif
+  const auto result = run_cli(args);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+#ifdef RAYACCEL_HAVE_EMBREE
+  EXPECT_NE(result.err.find("triangle scenes only"), std::string::npos) << result.err;
+#endif
+  const nlohmann::json scene = nlohmann::json::parse(testing::read_file(json_path))["scenes"][0];
+  EXPECT_EQ(scene["kind"], "spheres");
+  EXPECT_NE(scene["reference"].get<std::string>().find("brute force"), std::string::npos);
+  ASSERT_EQ(scene["results"].size(), 2u);
+  EXPECT_EQ(scene["results"][1]["accel"], "grid");
+  EXPECT_EQ(scene["results"][1]["mismatches"], 0);
+  EXPECT_EQ(scene["results"][1]["rays"]["primary"]["checked"], 64);
+}
+
 }  // namespace
 }  // namespace rayaccel

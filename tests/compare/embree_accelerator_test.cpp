@@ -115,6 +115,21 @@ TEST(EmbreeAccelerator, HonoursTheHitInterval) {
   EXPECT_FALSE(embree.occluded(short_ray));
 }
 
+TEST(EmbreeAccelerator, InvalidAndZeroAreaTrianglesAreNeverHit) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  TriangleMesh mesh;
+  mesh.vertices = {{-1.0f, -1.0f, 1.0f}, {1.0f, -1.0f, 1.0f}, {nan, 1.0f, 1.0f},   // invalid (NaN)
+                   {-1.0f, -1.0f, 2.0f}, {1.0f, 1.0f, 2.0f},  {0.0f, 0.0f, 2.0f},   // zero area (collinear)
+                   {-1.0f, -1.0f, 3.0f}, {1.0f, -1.0f, 3.0f}, {0.0f, 1.0f, 3.0f}};  // the one a ray can hit
+  mesh.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  const Scene scene = Scene::from_mesh(mesh);
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  const Hit hit = embree.intersect(Ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 10.0f});
+  EXPECT_EQ(hit.prim_id, 2u);
+  EXPECT_FLOAT_EQ(hit.t, 3.0f);
+}
+
 TEST(EmbreeAccelerator, EmptySceneMissesEverything) {
   const Scene scene = Scene::from_mesh({});
   EmbreeAccelerator embree;

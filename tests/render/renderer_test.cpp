@@ -108,17 +108,37 @@ TEST(Renderer, HeatMapDiffersBetweenGeometryAndBackgroundAndHasALegend) {
   EXPECT_GT(white, 20);
 }
 
-TEST(Renderer, HeatMapFollowsCostOnAScaleFromMinToMax) {
+TEST(Renderer, HeatMapScaleRunsFromMinToThe99thPercentile) {
   // Brute force costs the same for every ray, so the scale is checked on synthetic statistics.
-  std::vector<TraversalStats> stats(5);
-  for (std::size_t i = 0; i < stats.size(); ++i) stats[i] = {i + 1, 10 * i};  // costs 1, 12, 23, 34, 45
+  std::vector<TraversalStats> stats(201);
+  for (std::size_t i = 0; i < stats.size(); ++i) stats[i] = {1, 2 * i};  // costs 1, 3, ..., 401
+  stats[17].primitives_tested = 100000;                                 // one outlier
   const CostRange range = cost_range(stats);
   EXPECT_EQ(range.min, 1u);
-  EXPECT_EQ(range.max, 45u);
+  EXPECT_EQ(range.highest, 100001u);
+  // Sorted costs: 1, 3, ..., 33, 37, ..., 401, 100001; position floor(0.99 * 200) = 198 holds 399.
+  EXPECT_EQ(range.max, 399u);
   EXPECT_EQ(cost_fraction(1, range), 0.0f);
-  EXPECT_EQ(cost_fraction(45, range), 1.0f);
-  EXPECT_FLOAT_EQ(cost_fraction(23, range), 0.5f);
-  EXPECT_EQ(cost_fraction(7, CostRange{7, 7}), 0.5f);
+  EXPECT_EQ(cost_fraction(399, range), 1.0f);
+  EXPECT_EQ(cost_fraction(100001, range), 1.0f);
+  EXPECT_FLOAT_EQ(cost_fraction(200, range), 0.5f);
+  EXPECT_EQ(cost_fraction(7, CostRange{7, 7, 7}), 0.5f);
+  const CostRange empty = cost_range({});
+  EXPECT_EQ(empty.min, 0u);
+  EXPECT_EQ(empty.highest, 0u);
+}
+
+TEST(Renderer, ClippedLegendSaysSo) {
+  Image plain = Image::filled(400, 200, {0, 0, 0});
+  Image clipped = plain;
+  draw_heat_legend(plain, {12, 345, 345});
+  draw_heat_legend(clipped, {12, 345, 9999});
+  const int top = 200 - heat_legend_height(400, 200);
+  int differing = 0;
+  for (int y = top; y < 200; ++y) {
+    for (int x = 0; x < 400; ++x) differing += plain.at(x, y) != clipped.at(x, y) ? 1 : 0;
+  }
+  EXPECT_GT(differing, 20);
 }
 
 TEST(Renderer, LegendLabelsShowTheRange) {

@@ -1,6 +1,6 @@
 // Shared pieces of the spatial subdivisions (uniform grid, two-level grid, octree): the geometry of a regular grid,
-// incremental 3D-DDA stepping (Amanatides & Woo 1987, "A Fast Voxel Traversal Algorithm for Ray Tracing") and a
-// small per-ray mailbox so a primitive referenced by several cells is tested once per ray.
+// incremental 3D-DDA stepping (Amanatides & Woo 1987, "A Fast Voxel Traversal Algorithm for Ray Tracing") and the
+// per-cell primitive loop with the shared per-ray mailbox (RayMailbox, ray_mailbox.h).
 #pragma once
 
 #include <algorithm>
@@ -23,6 +23,21 @@ namespace rayaccel {
 inline float cell_padding(const AABB& box) {
   const Vec3 mag = max(abs(box.lo), abs(box.hi));
   return max_component(mag) * 0x1p-18f + max_component(box.extent()) * 0x1p-20f;
+}
+
+/// The smallest cell edge worth having in `box`: 2^-16 of its largest coordinate magnitude (about 128 float ulps,
+/// four times cell_padding()). Finer cells cannot be told apart in float (a soup 1e8 across at 1e15 would
+/// otherwise get cells smaller than the spacing of its own coordinates, each padded over all of its neighbours).
+inline float min_cell_size(const AABB& box) { return max_component(max(abs(box.lo), abs(box.hi))) * 0x1p-16f; }
+
+/// Lowers a per-axis resolution so no cell is smaller than min_cell_size(box).
+inline std::array<int, 3> limit_to_precision(std::array<int, 3> res, const AABB& box) {
+  const float min_size = min_cell_size(box);
+  for (int a = 0; a < 3; ++a) {
+    const float most = std::floor((box.hi[a] - box.lo[a]) / min_size);
+    if (most < float(res[a])) res[a] = std::max(1, int(most));
+  }
+  return res;
 }
 
 /// The scene box padded so that every axis has a positive extent (flat scenes still get a valid grid).

@@ -34,8 +34,8 @@ struct KdTreeOptions {
   bool mailbox = false;
 };
 
-/// Deepest tree the kd-tree (and BSP tree) builders produce; keeps the traversal stack bounded.
-inline constexpr int kKdMaxDepth = kMaxSegmentDepth - 4;
+/// Deepest tree the kd-tree builders produce; keeps the traversal stack bounded.
+inline constexpr int kKdMaxDepth = kMaxSplitTreeDepth;
 
 /// One kd-tree node in 8 bytes. Nodes are stored depth first: an interior node's below child (p[axis] <= split)
 /// is the next node, its above child sits at above_child().

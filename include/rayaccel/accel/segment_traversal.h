@@ -3,6 +3,9 @@
 // the segment [t0, t1] at t_split, the near child is visited first and the far child is kept on a small stack.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "rayaccel/accel/ray_mailbox.h"
@@ -49,6 +52,15 @@ inline ChildSegments split_segment(std::uint32_t below, std::uint32_t above, int
 
 /// Maximum tree depth a segment traversal supports (the stack holds one entry per level).
 inline constexpr int kMaxSegmentDepth = 64;
+/// Deepest tree the kd-tree and BSP builders make.
+inline constexpr int kMaxSplitTreeDepth = kMaxSegmentDepth - 4;
+
+/// The depth limit of a split-plane tree over n primitives: `requested` when > 0, else pbrt's round(8 + 1.3 log2 n);
+/// at most kMaxSplitTreeDepth.
+inline int split_tree_depth_limit(int requested, std::size_t n) {
+  const int automatic = static_cast<int>(std::lround(8.0 + 1.3 * std::log2(double(n > 1 ? n : 1))));
+  return std::min(requested > 0 ? requested : automatic, kMaxSplitTreeDepth);
+}
 
 /// Result of visiting one node in traverse_segments().
 enum class SegmentVisit { descend, leaf_done, stop };

@@ -11,7 +11,7 @@ inline constexpr int kGlyphWidth = 5;
 inline constexpr int kGlyphHeight = 7;
 inline constexpr int kGlyphAdvance = 6;  ///< glyph width plus a one-pixel gap
 
-/// True when the font has a glyph for c: 0-9, space, . - + / = ( ) and A C D E I K M N O P R S T X Y (lower case
+/// True when the font has a glyph for c: 0-9, space, . , - + / = ( ) and A C D E I K M N O P R S T X Y (lower case
 /// letters draw as capitals).
 bool has_glyph(char c);
 /// Width in pixels of `text` drawn at integer `scale` (no trailing gap); 0 for empty text.

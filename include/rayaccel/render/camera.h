@@ -40,8 +40,8 @@ struct Camera {
   /// (Builds the frame per call; use frame() for many rays.)
   Ray primary_ray(int x, int y, int width, int height) const;
   /// A camera that frames the whole box from a three-quarter view (front right, slightly above; Y up, 40 degree
-  /// fov), its bounding sphere inside the vertical field of view. Flat or single-point boxes get a finite nonzero
-  /// distance; an empty or non-finite box gives the default camera.
+  /// fov), as close as it can with every box corner inside the central 90% of a square image. Flat or
+  /// single-point boxes get a finite nonzero distance; an empty or non-finite box gives the default camera.
   static Camera framing(const AABB& box);
 };
 

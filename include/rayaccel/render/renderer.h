@@ -43,8 +43,8 @@ struct RenderResult {
 /// - normals: |n| per axis as (r, g, b) at hits (n the geometric normal), a dark blue-grey background at misses.
 /// - ambient_occlusion: grey = sRGB-encoded fraction of ao_samples cosine-weighted shadow rays (length
 ///   ao_distance_fraction times the scene box diagonal) left unoccluded; the same background.
-/// - heatmap: heat_colour() of each primary ray's cost on a linear scale from the image's cheapest to its
-///   dearest ray, with the legend of heatmap.h in the bottom rows. Hit pixels are darkened by 10 to 40 percent
+/// - heatmap: heat_colour() of each primary ray's cost on the linear scale of cost_range() (cheapest ray to the
+///   99th percentile), with the legend of heatmap.h in the bottom rows. Hit pixels are darkened by 10 to 40 percent
 ///   with the angle between ray and surface, so shapes stay readable where cost is uniform (brute force);
 ///   misses and the legend show the plain ramp.
 /// The result is the same for any thread count. Throws Error for a non-positive size, or ao_samples < 1 or a

@@ -11,6 +11,7 @@
 #include "rayaccel/core/ray.h"
 #include "rayaccel/geometry/ray_box.h"
 #include "rayaccel/geometry/ray_triangle.h"
+#include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
 
@@ -74,6 +75,19 @@ inline int intersect_boxes4(const RayPacket4& ray, const float (*bounds)[2][4], 
   t_entry = t_near;
   return _mm_movemask_ps(_mm_cmple_ps(t_near, t_far));
 }
+
+/// The four-wide box test in the form the width-generic traversal calls (see BoxKernel8 for eight).
+struct BoxKernel4 {
+  static constexpr int kWidth = 4;
+  using Packet = RayPacket4;
+  static Packet prepare(const PreparedRay& r) { return RayPacket4(r); }
+  static int intersect(const Packet& ray, const Node<4>& node, float t_far, float* t_entry) {
+    __m128 entry;
+    const int mask = intersect_boxes4(ray, node.bounds, _mm_set1_ps(t_far), entry);
+    _mm_store_ps(t_entry, entry);
+    return mask;
+  }
+};
 
 /// Four triangles in SoA form: vertex[v][axis][lane]. Unused lanes hold prim kInvalidPrimId and a zero triangle
 /// (a point, which the watertight test never hits).

@@ -1,8 +1,9 @@
-// Four-wide BVH for triangle meshes: a binary SAH tree collapsed greedily by opening the child of largest surface
-// area (Wald, Benthin, Boulos 2008, "Getting rid of packets"; Dammertz et al. 2008, "Shallow bounding volume
-// hierarchies"), child boxes stored SoA so one SSE test covers four children, and leaves of Triangle4 blocks tested
-// four at a time with the watertight kernel (other primitive kinds: the same tree, leaves tested one by one). Closest-hit traversal visits children near-first; any-hit stops at the
-// first hit.
+// Wide BVH (4 or 8 children per node) for triangle meshes: a binary SAH tree collapsed greedily by opening the child
+// of largest surface area (Wald, Benthin, Boulos 2008, "Getting rid of packets"; Dammertz et al. 2008, "Shallow
+// bounding volume hierarchies"), child boxes stored SoA so one SIMD test covers every child, and leaves of Triangle4
+// blocks tested four at a time with the watertight kernel (other primitive kinds: the same tree, leaves tested one by
+// one). Width 8 uses AVX2 and is chosen at run time only when the CPU has it; width 4 uses SSE2, which every x86-64
+// CPU has. Closest-hit traversal visits children near-first; any-hit stops at the first hit.
 #pragma once
 
 #include <cstdint>
@@ -13,52 +14,67 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/bvh/binned_sah_builder.h"
 #include "rayaccel/bvh/build_tree.h"
+#include "rayaccel/wide/avx2_kernels.h"
 #include "rayaccel/wide/simd_kernels.h"
+#include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
 
-/// One node: the boxes of up to four children and a reference to each.
-struct alignas(64) Node4 {
-  float bounds[3][2][4];   ///< 96 bytes: [axis][lo, hi][child]; an unused child has lo = +inf, hi = -inf
-  std::uint32_t child[4];  ///< 16 bytes: node index, or kLeafBit | first block << kBlockShift | (blocks - 1)
-  std::uint32_t padding[4];  ///< 16 bytes: pads the node to two cache-line halves
-};
-static_assert(sizeof(Node4) == 128, "Node4 is 128 bytes");
-
-inline constexpr std::uint32_t kLeafBit = 0x80000000u;
-inline constexpr std::uint32_t kBlockShift = 3;               ///< low 3 bits: block count - 1
-inline constexpr std::uint32_t kMaxLeafBlocks = 8;            ///< at most 32 triangles per leaf
-inline constexpr std::uint32_t kEmptyChild = 0xFFFFFFFFu;     ///< never followed: its box is empty
-inline constexpr int kStackSize = 3 * kBvhMaxDepth + 4;       ///< at most 3 pushes per level
-
 struct WideBvhConfig {
+  /// Children per node: 4 (SSE2), 8 (AVX2), or 0 for the widest this CPU runs.
+  int width = 0;
   /// The binary tree that is collapsed: binned SAH with leaves of at most 4 triangles (one Triangle4 block). A
   /// primitive test costs 0.3 of a node visit here because four triangles are tested for the price of about one.
   BinnedSahConfig binary{.max_leaf_size = 4, .costs = {.traversal = 1.0f, .intersection = 0.3f}};
 };
 
-class WideBvh4 final : public AcceleratorImpl<WideBvh4> {
+/// True when this CPU runs the AVX2 kernels.
+bool cpu_has_avx2();
+
+class WideBvh final : public AcceleratorImpl<WideBvh> {
  public:
-  explicit WideBvh4(WideBvhConfig config = {}) : config_(config) {}
+  explicit WideBvh(WideBvhConfig config = {}) : config_(config) {}
 
   void build(const Scene& scene) override;
-  /// Builds from any binary builder's tree over the scene's triangles (no spatial splits).
+  /// Builds from any binary builder's tree (without spatial splits) over the scene's primitives.
   void build_from(const Scene& scene, const BuildTree& tree);
+  int width() const { return width_; }
   std::size_t memory_bytes() const override;
   std::vector<BuildStatistic> build_statistics() const override;
   std::vector<std::string> validate() const override;
 
   template <bool AnyHit, class Stats>
-  void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    if (width_ == 8) {
+      trace_avx2<AnyHit>(ray, hit, stats);
+    } else {
+      traverse<BoxKernel4, AnyHit>(nodes4_, ray, hit, stats);
+    }
+  }
 
  private:
-  std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth);
+  template <int W>
+  std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, std::vector<Node<W>>& nodes);
   std::uint32_t emit_leaf(const BuildTree& tree, std::uint32_t binary_node);
+  template <int W>
+  void validate_nodes(const std::vector<Node<W>>& nodes, std::vector<std::string>& problems) const;
+
+  template <bool AnyHit, class Stats>
+  __attribute__((target("avx2"), flatten)) void trace_avx2(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
+  }
+  template <class Kernel, bool AnyHit, class Stats>
+  void traverse(const std::vector<Node<Kernel::kWidth>>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  template <bool AnyHit, class Stats>
+  bool intersect_leaf(std::uint32_t ref, const RayPacket4& packet, const PreparedRay& ray, Hit& hit,
+                      Stats& stats) const;
 
   WideBvhConfig config_;
+  int width_ = 4;
   const Scene* scene_ = nullptr;
   bool triangles_ = true;  ///< false: blocks hold only ids, tested through Scene::intersect
-  std::vector<Node4> nodes_;
+  std::vector<Node<4>> nodes4_;
+  std::vector<Node<8>> nodes8_;
   std::vector<Triangle4> blocks_;
   std::uint32_t root_ = kEmptyChild;
   std::vector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
@@ -67,9 +83,34 @@ class WideBvh4 final : public AcceleratorImpl<WideBvh4> {
 };
 
 template <bool AnyHit, class Stats>
-void WideBvh4::trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+inline bool WideBvh::intersect_leaf(std::uint32_t ref, const RayPacket4& packet, const PreparedRay& ray, Hit& hit,
+                                    Stats& stats) const {
+  const std::uint32_t first = leaf_first_block(ref);
+  const std::uint32_t end = first + leaf_block_count(ref);
+  bool found = false;
+  for (std::uint32_t b = first; b < end; ++b) {
+    if (triangles_) {
+      stats.test_primitive(4);
+      found |= intersect_triangles4(packet, ray, blocks_[b], hit);
+    } else {
+      for (std::uint32_t id : blocks_[b].prim_id) {
+        if (id == kInvalidPrimId) continue;
+        stats.test_primitive();
+        found |= scene_->intersect(id, ray, hit);
+      }
+    }
+    if (AnyHit && found) return true;
+  }
+  return found;
+}
+
+template <class Kernel, bool AnyHit, class Stats>
+inline void WideBvh::traverse(const std::vector<Node<Kernel::kWidth>>& nodes, const PreparedRay& ray, Hit& hit,
+                              Stats& stats) const {
+  constexpr int W = Kernel::kWidth;
   if (root_ == kEmptyChild) return;
-  const RayPacket4 packet(ray);
+  const RayPacket4 triangle_packet(ray);
+  const typename Kernel::Packet box_packet = Kernel::prepare(ray);
   struct Entry {
     std::uint32_t ref;
     float t_entry;
@@ -78,48 +119,32 @@ void WideBvh4::trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
   int top = 0;
   std::uint32_t ref = root_;
   for (;;) {
+    stats.visit_node();
     if (ref & kLeafBit) {
-      stats.visit_node();
-      const std::uint32_t first = (ref & ~kLeafBit) >> kBlockShift;
-      const std::uint32_t count = (ref & ((1u << kBlockShift) - 1)) + 1;
-      for (std::uint32_t b = first; b < first + count; ++b) {
-        if (triangles_) {
-          stats.test_primitive(4);
-          if (intersect_triangles4(packet, ray, blocks_[b], hit) && AnyHit) return;
-        } else {
-          for (std::uint32_t id : blocks_[b].prim_id) {
-            if (id == kInvalidPrimId) continue;
-            stats.test_primitive();
-            if (scene_->intersect(id, ray, hit) && AnyHit) return;
-          }
-        }
-      }
+      if (intersect_leaf<AnyHit>(ref, triangle_packet, ray, hit, stats) && AnyHit) return;
     } else {
-      stats.visit_node();
-      const Node4& node = nodes_[ref];
-      __m128 t_entry;
-      int mask = intersect_boxes4(packet, node.bounds, _mm_set1_ps(hit.t), t_entry);
+      const Node<W>& node = nodes[ref];
+      alignas(32) float entry[W];
+      int mask = Kernel::intersect(box_packet, node, hit.t, entry);
       if (mask) {
-        alignas(16) float entry[4];
-        _mm_store_ps(entry, t_entry);
-        // Collect the hit children, then push all but the nearest (farthest pushed first) and descend into it.
-        Entry hits[4];
+        // Gather the children met, farthest first, push all but the nearest and descend into it.
+        Entry met[W];
         int n = 0;
         for (; mask; mask &= mask - 1) {
           const int lane = __builtin_ctz(static_cast<unsigned>(mask));
-          Entry e{node.child[lane], entry[lane]};
+          const Entry e{node.child[lane], entry[lane]};
           int i = n++;
           if constexpr (!AnyHit) {
-            for (; i > 0 && hits[i - 1].t_entry < e.t_entry; --i) hits[i] = hits[i - 1];
+            for (; i > 0 && met[i - 1].t_entry < e.t_entry; --i) met[i] = met[i - 1];
           }
-          hits[i] = e;
+          met[i] = e;
         }
-        for (int i = 0; i < n - 1; ++i) stack[top++] = hits[i];
-        ref = hits[n - 1].ref;
+        for (int i = 0; i < n - 1; ++i) stack[top++] = met[i];
+        ref = met[n - 1].ref;
         continue;
       }
     }
-    // Pop the next subtree whose entry is not beyond the closest hit found so far.
+    // Pop the next subtree whose entry is not beyond the closest hit so far.
     for (;;) {
       if (top == 0) return;
       const Entry& e = stack[--top];

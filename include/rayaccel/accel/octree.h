@@ -1,0 +1,170 @@
+// Octree: eight equal children per cell, primitives referenced by every leaf they overlap (box, then the exact SAT
+// test for triangles), front-to-back traversal in the parametric order of Revelles, Urena & Lastra 2000 ("An
+// Efficient Parametric Algorithm for Octree Traversal"), and insertion / removal after the build at a cost
+// proportional to depth: leaves split past max_prims and merge back when their siblings empty out.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/grid_dda.h"
+#include "rayaccel/accel/registry.h"
+#include "rayaccel/geometry/ray_box.h"
+
+namespace rayaccel {
+
+struct OctreeOptions {
+  int max_depth = 10;   ///< levels below the root at most (1..20)
+  int max_prims = 8;    ///< a leaf with more primitives splits (unless at max_depth or no child would get fewer)
+  bool exact = true;    ///< triangles: reference only leaves the triangle overlaps (SAT)
+  bool mailbox = true;  ///< skip primitives this ray tested in a recent leaf
+  double pad = 0.0;     ///< the root box is the scene box grown by pad * its extent on each side (room to insert)
+  std::optional<AABB> root_bounds;  ///< explicit root box instead; must hold the scene's bounds
+};
+
+struct OctreeNode {
+  std::uint32_t first_child;  ///< 4 bytes: index of the first of 8 consecutive children; kLeaf for a leaf
+  std::uint32_t list;         ///< 4 bytes: a leaf's index into the primitive lists; unused for an interior node
+};
+static_assert(sizeof(OctreeNode) == 8, "OctreeNode is 8 bytes");
+
+class Octree final : public AcceleratorImpl<Octree> {
+ public:
+  static constexpr std::uint32_t kLeaf = 0xFFFFFFFFu;
+  static constexpr int kMaxDepth = 20;
+
+  explicit Octree(OctreeOptions options = {});
+
+  /// Builds over every valid primitive of `scene` (all become active).
+  void build(const Scene& scene) override;
+  /// Adds primitive `id` of the built-over scene (e.g. one added by Scene::append_triangles) to the active set,
+  /// touching only the leaves it overlaps and splitting those that grow past max_prims. Throws Error when `id` is
+  /// out of range, invalid, already active, or not inside the root box (the root is never grown: build with
+  /// OctreeOptions::pad or root_bounds to leave room, or rebuild).
+  void insert(std::uint32_t id);
+  /// Removes primitive `id` from the active set and merges sibling leaves whose union fits in max_prims. The
+  /// primitive's geometry must be what it was at insertion. Throws Error when `id` is not active.
+  void remove(std::uint32_t id);
+  bool is_active(std::uint32_t id) const { return id < active_.size() && active_[id] != 0; }
+  std::uint32_t active_count() const { return active_count_; }
+  const AABB& root_box() const { return root_box_; }
+
+  std::size_t memory_bytes() const override;
+  std::vector<BuildStatistic> build_statistics() const override;
+  std::vector<std::string> validate() const override;
+
+  /// Child `child` (bit 0: upper x half, bit 1: y, bit 2: z) of a cell; build and traversal share it.
+  static AABB child_box(const AABB& box, int child) {
+    const Vec3 c = box.center();
+    AABB out;
+    for (int a = 0; a < 3; ++a) {
+      const bool upper = (child >> a) & 1;
+      out.lo[a] = upper ? c[a] : box.lo[a];
+      out.hi[a] = upper ? box.hi[a] : c[a];
+    }
+    return out;
+  }
+
+  /// Visits cells front to back: at an interior cell, the child holding the entry point comes first and each
+  /// mid-plane crossing inside the cell's [t0, t1] flips one axis (Revelles et al.; negative directions handled by
+  /// the sign of the crossing, zero components by the origin's side). Stops once the closest hit lies in the current
+  /// leaf (hit.t <= leaf exit).
+  template <bool AnyHit, class Stats>
+  void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    if (active_count_ == 0) return;
+    float t0 = ray.t_min, t1 = ray.t_max;
+    if (!clip_ray_to_box(ray, root_box_, t0, t1)) return;
+    struct Entry {
+      AABB box;
+      std::uint32_t node;
+      float t0, t1;
+    };
+    Entry stack[3 * kMaxDepth + 4];
+    int top = 0;
+    stack[top++] = {root_box_, 0, t0, t1};
+    RayMailbox<true> mailbox;
+    while (top > 0) {
+      const Entry e = stack[--top];
+      stats.visit_node();
+      const OctreeNode& n = nodes_[e.node];
+      if (n.first_child == kLeaf) {
+        const std::vector<std::uint32_t>& list = lists_[n.list];
+        if (test_cell_primitives<AnyHit>(*scene_, list.data(), list.data() + list.size(), options_.mailbox, mailbox,
+                                         ray, hit, stats)) {
+          return;
+        }
+        if (hit.t <= e.t1) return;
+        continue;
+      }
+      const Vec3 c = e.box.center();
+      int child = 0, crossings = 0;
+      float cross_t[3];
+      int cross_axis[3];
+      for (int a = 0; a < 3; ++a) {
+        if (ray.direction[a] == 0.0f || !std::isfinite(ray.inv_direction[a])) {
+          child |= ray.origin[a] >= c[a] ? 1 << a : 0;
+          continue;
+        }
+        const float tm = (c[a] - ray.origin[a]) * ray.inv_direction[a];
+        const bool past = tm <= e.t0;  // the mid plane lies behind the entry point
+        child |= (ray.direction[a] > 0.0f) == past ? 1 << a : 0;
+        if (!past && tm < e.t1) {
+          int k = crossings++;
+          for (; k > 0 && cross_t[k - 1] > tm; --k) { cross_t[k] = cross_t[k - 1]; cross_axis[k] = cross_axis[k - 1]; }
+          cross_t[k] = tm;
+          cross_axis[k] = a;
+        }
+      }
+      int order[4];
+      float bounds[5];
+      order[0] = child;
+      bounds[0] = e.t0;
+      for (int k = 0; k < crossings; ++k) {
+        order[k + 1] = order[k] ^ (1 << cross_axis[k]);
+        bounds[k + 1] = cross_t[k];
+      }
+      bounds[crossings + 1] = e.t1;
+      for (int k = crossings; k >= 0; --k) {
+        const std::uint32_t id = n.first_child + std::uint32_t(order[k]);
+        const OctreeNode& cn = nodes_[id];
+        if (cn.first_child == kLeaf && lists_[cn.list].empty()) continue;
+        stack[top++] = {child_box(e.box, order[k]), id, bounds[k], bounds[k + 1]};
+      }
+    }
+  }
+
+ private:
+  /// A cell may split above max_depth only while its children stay above min_cell_size (see grid_dda.h).
+  bool may_split(const AABB& box, int depth) const {
+    return depth < options_.max_depth && max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);
+  }
+  void split(std::uint32_t node, const AABB& box, int depth);
+  void insert_into(std::uint32_t node, const AABB& box, int depth, std::uint32_t id);
+  void remove_from(std::uint32_t node, const AABB& box, std::uint32_t id);
+  void try_merge(std::uint32_t node);
+  std::uint32_t new_list();
+  std::uint32_t new_block();
+  bool overlaps(std::uint32_t id, const AABB& box) const;
+  void validate_node(std::uint32_t node, const AABB& box, int depth, std::vector<std::uint8_t>& reached,
+                     std::vector<std::uint8_t>& seen, std::vector<std::string>& problems) const;
+
+  OctreeOptions options_;
+  const Scene* scene_ = nullptr;
+  AABB root_box_;
+  float pad_ = 0.0f;
+  bool exact_used_ = false;
+  std::vector<OctreeNode> nodes_;                   ///< node 0 is the root; children in blocks of 8
+  std::vector<std::vector<std::uint32_t>> lists_;   ///< leaf primitive lists
+  std::vector<std::uint32_t> free_blocks_;          ///< first nodes of released child blocks
+  std::vector<std::uint32_t> free_lists_;           ///< released list slots
+  std::vector<std::uint8_t> active_;                ///< per primitive id: in the tree
+  std::uint32_t active_count_ = 0;
+};
+
+void register_octree(std::vector<AcceleratorInfo>& registry);
+
+}  // namespace rayaccel
