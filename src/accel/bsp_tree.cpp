@@ -68,7 +68,7 @@ std::vector<BuildStatistic> BspTree::build_statistics() const {
     stack.push_back({index + 1, depth + 1});
     stack.push_back({n.above_child(), depth + 1});
   }
-  const std::size_t prims = scene_ ? scene_->primitive_count() - scene_->invalid_count() : 0;
+  const std::size_t prims = scene_ ? scene_->valid_count() : 0;
   return {{"nodes", double(data_.nodes.size())},
           {"leaves", double(leaves)},
           {"empty_leaves", double(empty_leaves)},
@@ -87,7 +87,7 @@ std::vector<std::string> BspTree::validate() const {
   const std::size_t node_count = data_.nodes.size();
   const std::uint32_t prim_count = scene_->primitive_count();
   if (node_count == 0) {
-    if (prim_count != scene_->invalid_count()) report("no nodes, but the scene has valid primitives");
+    if (prim_count != scene_->invalid_count() + scene_->degenerate_count()) report("no nodes, but the scene has valid primitives");
     return problems;
   }
   std::vector<std::uint8_t> referenced(prim_count, 0), reached(node_count, 0);

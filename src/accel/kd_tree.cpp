@@ -95,7 +95,7 @@ std::vector<BuildStatistic> KdTree::build_statistics() const {
     }
     return true;
   });
-  const std::size_t prims = scene_ ? scene_->primitive_count() - scene_->invalid_count() : 0;
+  const std::size_t prims = scene_ ? scene_->valid_count() : 0;
   return {{"nodes", double(data_.nodes.size())},
           {"leaves", double(leaves)},
           {"empty_leaves", double(empty_leaves)},
@@ -114,11 +114,11 @@ std::vector<std::string> KdTree::validate() const {
   const std::size_t node_count = data_.nodes.size();
   const std::uint32_t prim_count = scene_->primitive_count();
   if (node_count == 0) {
-    if (prim_count != scene_->invalid_count()) report("no nodes, but the scene has valid primitives");
+    if (prim_count != scene_->invalid_count() + scene_->degenerate_count()) report("no nodes, but the scene has valid primitives");
     return problems;
   }
   const ClipToCell clip = scene_clipper(*scene_);
-  const int depth_limit = kd_tree_max_depth(options_, prim_count - scene_->invalid_count());
+  const int depth_limit = kd_tree_max_depth(options_, scene_->valid_count());
   std::vector<std::uint8_t> referenced(prim_count, 0);
   std::vector<std::uint8_t> reached(node_count, 0);
   for_each_node(data_, [&](std::uint32_t index, const AABB& cell, int depth) {

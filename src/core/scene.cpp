@@ -91,7 +91,7 @@ void Scene::derive_triangle(std::uint32_t id) {
   const Vec3& a = mesh_.vertices[idx[0]];
   const Vec3& b = mesh_.vertices[idx[1]];
   const Vec3& c = mesh_.vertices[idx[2]];
-  if (is_finite(a) && is_finite(b) && is_finite(c)) {
+  if (is_finite(a) && is_finite(b) && is_finite(c) && !has_zero_area(a, b, c)) {
     triangle_vertices_[id] = {a, b, c};
     prim_bounds_[id] = AABB::of_point(a).extend(b).extend(c);
   } else {
@@ -105,21 +105,24 @@ void Scene::finish_bounds() {
   invalid_count_ = 0;
   degenerate_count_ = 0;
   for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
-    if (prim_bounds_[i].is_empty()) {
-      ++invalid_count_;
+    if (!prim_bounds_[i].is_empty()) {
+      bounds_.extend(prim_bounds_[i]);
       continue;
     }
-    bounds_.extend(prim_bounds_[i]);
+    // Excluded: a degenerate triangle has finite vertices in the mesh; an invalid primitive does not.
+    bool degenerate = false;
     if (kind_ == PrimitiveKind::triangles) {
-      const auto& t = triangle_vertices_[i];
-      if (has_zero_area(t[0], t[1], t[2])) ++degenerate_count_;
+      const auto& idx = mesh_.triangles[i];
+      const Vec3 &a = mesh_.vertices[idx[0]], &b = mesh_.vertices[idx[1]], &c = mesh_.vertices[idx[2]];
+      degenerate = is_finite(a) && is_finite(b) && is_finite(c);
     }
+    ++(degenerate ? degenerate_count_ : invalid_count_);
   }
 }
 
 std::vector<PrimRef> Scene::build_references() const {
   std::vector<PrimRef> refs;
-  refs.reserve(prim_bounds_.size() - invalid_count_);
+  refs.reserve(prim_bounds_.size() - invalid_count_ - degenerate_count_);
   for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
     if (!prim_bounds_[i].is_empty()) refs.push_back({prim_bounds_[i], i});
   }

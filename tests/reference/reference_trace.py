@@ -72,11 +72,17 @@ def read_binary_ply(path):
 
 
 class Mesh:
-    """Per-axis float32 vertex columns of every valid triangle (finite vertices), with their ids."""
+    """Per-axis float32 vertex columns of every valid triangle (finite vertices, non-zero area), with their ids.
+
+    Zero area is decided exactly: edge vectors and their cross product in float64 from the stored float32 vertices."""
 
     def __init__(self, vertices, faces):
         corners = vertices[faces]  # M x 3 (corner) x 3 (axis)
         valid = np.all(np.isfinite(corners), axis=(1, 2))
+        wide = corners.astype(np.float64)
+        with np.errstate(invalid="ignore", over="ignore"):
+            normal = np.cross(wide[:, 1] - wide[:, 0], wide[:, 2] - wide[:, 0])
+        valid &= np.any(normal != 0, axis=1)
         self.ids = np.nonzero(valid)[0]
         corners = corners[valid]
         self.v = [[np.ascontiguousarray(corners[:, c, axis]) for axis in range(3)] for c in range(3)]
@@ -112,6 +118,11 @@ def trace_ray(mesh, ray):
     px = [rel[c][kx] - sx * rel[c][kz] for c in range(3)]
     py = [rel[c][ky] - sy * rel[c][kz] for c in range(3)]
     (ax, bx, cx), (ay, by, cy) = px, py
+    # The C++ kernel rescales triangles whose sheared coordinates leave [2^-40, 2^40]; this reference does not model
+    # that path, so it refuses rays that would need it rather than answer differently.
+    magnitude = np.max(np.abs(np.stack(px + py + [rel[c][kz] for c in range(3)])), axis=0)
+    if np.any((magnitude > 2.0 ** 40) | (magnitude < 2.0 ** -40)):
+        raise SystemExit("a triangle is outside the float kernel's safe range for this ray; not modelled here")
     eu = cx * by - cy * bx
     ev = ax * cy - ay * cx
     ew = bx * ay - by * ax

@@ -5,8 +5,10 @@
 // - A triangle with a NaN or infinite vertex coordinate, or a sphere with a non-finite center or a radius that is
 //   not finite and > 0, is *invalid*: it keeps its id, is excluded from bounds() and build_references(), and is
 //   never hit.
-// - A zero-area (degenerate) triangle is valid and kept in builds, but the watertight test never reports a hit on
-//   it. degenerate_count() reports how many there are.
+// - A zero-area (degenerate) triangle — edge cross product exactly zero, computed exactly from the stored floats —
+//   is treated the same way: it keeps its id, is excluded from bounds() and build_references(), and is never hit
+//   (in floating point the sheared test could otherwise report a hit on a collinear triangle). degenerate_count()
+//   reports how many there are; invalid_count() counts only the non-finite ones.
 #pragma once
 
 #include <array>
@@ -40,12 +42,14 @@ class Scene {
   PrimitiveKind kind() const { return kind_; }
   std::uint32_t primitive_count() const { return static_cast<std::uint32_t>(prim_bounds_.size()); }
   std::uint32_t invalid_count() const { return invalid_count_; }
+  /// Primitives that are neither invalid nor degenerate: those build_references() returns.
+  std::uint32_t valid_count() const { return primitive_count() - invalid_count_ - degenerate_count_; }
   std::uint32_t degenerate_count() const { return degenerate_count_; }
   /// Bounds of the valid primitives (empty when there are none).
   const AABB& bounds() const { return bounds_; }
 
   bool is_valid(std::uint32_t id) const { return !prim_bounds_[id].is_empty(); }
-  /// Bounds of one primitive; empty for an invalid one.
+  /// Bounds of one primitive; empty for an invalid or degenerate one.
   const AABB& primitive_bounds(std::uint32_t id) const { return prim_bounds_[id]; }
   Vec3 primitive_centroid(std::uint32_t id) const { return prim_bounds_[id].center(); }
   /// One reference per valid primitive, in id order: the input of every builder.
@@ -77,7 +81,7 @@ class Scene {
 
   // Triangle access (kind() == triangles).
   const TriangleMesh& mesh() const { return mesh_; }
-  /// The three vertices of triangle id as stored for tracing (all zero for an invalid triangle).
+  /// The three vertices of triangle id as stored for tracing (all zero for an invalid or degenerate triangle).
   const std::array<Vec3, 3>& triangle(std::uint32_t id) const { return triangle_vertices_[id]; }
   /// Replaces the vertex positions (same count and topology) and updates every derived bound: the input of refit.
   void set_vertices(std::span<const Vec3> vertices);

@@ -14,9 +14,9 @@
 
 namespace rayaccel {
 
-/// Tests the sphere (center, radius) and, when it is hit with r.t_min < t < hit.t, stores the nearer such t,
-/// prim_id and (u, v) = (longitude / 2pi, latitude / pi) of the hit point in hit and returns true.
-inline bool intersect_sphere(const PreparedRay& r, const Vec3& center, float radius, std::uint32_t prim_id, Hit& hit) {
+/// The parameter interval [t0, t1] (t0 <= t1) where the ray's line lies inside the sphere (center, radius), in
+/// double precision; false when the line misses (or the ray has a NaN component). The ray's t range is not applied.
+inline bool ray_sphere_interval(const PreparedRay& r, const Vec3& center, float radius, double& t0, double& t1) {
   const double fx = double(r.origin.x) - center.x, fy = double(r.origin.y) - center.y,
                fz = double(r.origin.z) - center.z;
   const double dx = r.direction.x, dy = r.direction.y, dz = r.direction.z;
@@ -30,9 +30,18 @@ inline bool intersect_sphere(const PreparedRay& r, const Vec3& center, float rad
   if (!(disc >= 0.0)) return false;
   const double c = fx * fx + fy * fy + fz * fz - rr;
   const double q = b + std::copysign(std::sqrt(disc), b);
-  double t0 = c / q, t1 = q / a;
+  t0 = c / q;
+  t1 = q / a;
   if (q == 0.0) t0 = t1 = 0.0;
   if (t0 > t1) std::swap(t0, t1);
+  return true;
+}
+
+/// Tests the sphere (center, radius) and, when it is hit with r.t_min < t < hit.t, stores the nearer such t,
+/// prim_id and (u, v) = (longitude / 2pi, latitude / pi) of the hit point in hit and returns true.
+inline bool intersect_sphere(const PreparedRay& r, const Vec3& center, float radius, std::uint32_t prim_id, Hit& hit) {
+  double t0, t1;
+  if (!ray_sphere_interval(r, center, radius, t0, t1)) return false;
   float t = static_cast<float>(t0);
   if (!(t > r.t_min && t < hit.t)) {
     t = static_cast<float>(t1);
@@ -40,6 +49,9 @@ inline bool intersect_sphere(const PreparedRay& r, const Vec3& center, float rad
   }
   hit.t = t;
   hit.prim_id = prim_id;
+  const double fx = double(r.origin.x) - center.x, fy = double(r.origin.y) - center.y,
+               fz = double(r.origin.z) - center.z;
+  const double dx = r.direction.x, dy = r.direction.y, dz = r.direction.z;
   const double px = fx + t * dx, py = fy + t * dy, pz = fz + t * dz;
   const double phi = std::atan2(pz, px);
   const double cos_theta = std::clamp(py / radius, -1.0, 1.0);

@@ -117,9 +117,21 @@ inline bool intersect_triangles4(const RayPacket4& ray, const PreparedRay& scala
   const __m128 zero = _mm_setzero_ps();
   const __m128i padding = _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(tri.prim_id)),
                                           _mm_set1_epi32(-1));
-  const int on_edge = _mm_movemask_ps(_mm_andnot_ps(
-      _mm_castsi128_ps(padding),
-      _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(eu, zero), _mm_cmpeq_ps(ev, zero)), _mm_cmpeq_ps(ew, zero))));
+  // Lanes the float kernel cannot decide alone: an edge function of exactly zero (double-precision fallback) or
+  // coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
+  const __m128 sign_bit = _mm_set1_ps(-0.0f);
+  __m128 magnitude = _mm_andnot_ps(sign_bit, pz[0]);
+  for (int v = 0; v < 3; ++v) {
+    magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, px[v]), magnitude);
+    magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, py[v]), magnitude);
+    magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, pz[v]), magnitude);
+  }
+  const __m128 safe = _mm_and_ps(_mm_cmple_ps(magnitude, _mm_set1_ps(kShearSafeMax)),
+                                 _mm_cmpge_ps(magnitude, _mm_set1_ps(kShearSafeMin)));
+  const __m128 on_edge_lanes =
+      _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(eu, zero), _mm_cmpeq_ps(ev, zero)), _mm_cmpeq_ps(ew, zero));
+  const __m128 unsafe = _mm_andnot_ps(safe, _mm_castsi128_ps(_mm_set1_epi32(-1)));
+  const int on_edge = _mm_movemask_ps(_mm_andnot_ps(_mm_castsi128_ps(padding), _mm_or_ps(on_edge_lanes, unsafe)));
   const __m128 any_negative =
       _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(eu, zero), _mm_cmplt_ps(ev, zero)), _mm_cmplt_ps(ew, zero));
   const __m128 any_positive =
@@ -153,7 +165,6 @@ inline bool intersect_triangles4(const RayPacket4& ray, const PreparedRay& scala
       }
     }
   }
-  // Lanes with an edge function of exactly zero take the scalar kernel, whose double-precision fallback decides them.
   for (int rest = on_edge; rest; rest &= rest - 1) {
     const int lane = __builtin_ctz(static_cast<unsigned>(rest));
     const Vec3 v0{tri.vertex[0][0][lane], tri.vertex[0][1][lane], tri.vertex[0][2][lane]};

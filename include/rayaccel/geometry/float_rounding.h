@@ -1,0 +1,42 @@
+// Directed rounding of double results to float, used where a float bound must enclose an exact value (fitted
+// bounding volumes, the k-DOP ray projections). Round-to-nearest followed by a one-ulp step found by bit
+// manipulation, as pbrt's NextFloatUp/NextFloatDown (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd
+// ed., section 3.9); no libm call, as these run once per ray and slab.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace rayaccel {
+
+/// The next float above f (+inf and NaN stay; -0 and +0 step to the smallest subnormal).
+inline float next_float_up(float f) {
+  if (std::isnan(f) || f == std::numeric_limits<float>::infinity()) return f;
+  if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
+  return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
+
+/// The next float below f (-inf and NaN stay; -0 and +0 step to the negative smallest subnormal).
+inline float next_float_down(float f) {
+  if (std::isnan(f) || f == -std::numeric_limits<float>::infinity()) return f;
+  if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
+  return std::bit_cast<float>(f > 0.0f ? bits - 1 : bits + 1);
+}
+
+/// The largest float <= x (x finite or infinite; NaN stays NaN).
+inline float round_down_to_float(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) > x ? next_float_down(f) : f;
+}
+
+/// The smallest float >= x (x finite or infinite; NaN stays NaN).
+inline float round_up_to_float(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) < x ? next_float_up(f) : f;
+}
+
+}  // namespace rayaccel
