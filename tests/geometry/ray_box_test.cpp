@@ -122,7 +122,8 @@ TEST(RayBox, EmptyBoxIsNeverHit) {
 }
 
 /// Exact-arithmetic stand-in: the slab test in double, whose rounding (~1e-16) is far below the float test's margin.
-bool touches_in_double(const Ray& ray, const AABB& box) {
+/// *entry receives the entry distance.
+bool touches_in_double(const Ray& ray, const AABB& box, double* entry) {
   double t_near = ray.t_min, t_far = ray.t_max;
   for (int a = 0; a < 3; ++a) {
     const double o = ray.origin[a], d = ray.direction[a];
@@ -135,6 +136,7 @@ bool touches_in_double(const Ray& ray, const AABB& box) {
     t_near = std::max(t_near, t0);
     t_far = std::min(t_far, t1);
   }
+  *entry = t_near;
   return t_near <= t_far;
 }
 
@@ -161,9 +163,11 @@ TEST(RayBox, ConservativeOnRandomRaysThroughBoxes) {
     Ray ray{o, 0.0f, p - o, rng.below(2) ? kInf : 1.0f};
     if (ray.direction == Vec3{}) continue;
     if (rng.below(5) == 0) ray.direction[rng.below(3)] = rng.below(2) ? 0.0f : -0.0f;  // may now miss: fine
-    if (!touches_in_double(ray, box)) continue;
+    double entry = 0.0;
+    if (!touches_in_double(ray, box, &entry)) continue;
     ++touching;
-    ASSERT_TRUE(hits(ray, box)) << "rejected a touching ray: box (" << box.lo.x << "," << box.lo.y << "," << box.lo.z
+    float t_entry = 0.0f;
+    ASSERT_TRUE(hits(ray, box, &t_entry)) << "rejected a touching ray: box (" << box.lo.x << "," << box.lo.y << "," << box.lo.z
                                 << ")-(" << box.hi.x << "," << box.hi.y << "," << box.hi.z << ") origin (" << o.x
                                 << "," << o.y << "," << o.z << ") dir (" << ray.direction.x << ","
                                 << ray.direction.y << "," << ray.direction.z << ") t_max " << ray.t_max;
