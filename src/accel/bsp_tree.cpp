@@ -87,7 +87,7 @@ std::vector<std::string> BspTree::validate() const {
   const std::size_t node_count = data_.nodes.size();
   const std::uint32_t prim_count = scene_->primitive_count();
   if (node_count == 0) {
-    if (prim_count != scene_->invalid_count() + scene_->degenerate_count()) report("no nodes, but the scene has valid primitives");
+    if (scene_->valid_count() != 0) report("no nodes, but the scene has valid primitives");
     return problems;
   }
   std::vector<std::uint8_t> referenced(prim_count, 0), reached(node_count, 0);

@@ -114,7 +114,7 @@ std::vector<std::string> KdTree::validate() const {
   const std::size_t node_count = data_.nodes.size();
   const std::uint32_t prim_count = scene_->primitive_count();
   if (node_count == 0) {
-    if (prim_count != scene_->invalid_count() + scene_->degenerate_count()) report("no nodes, but the scene has valid primitives");
+    if (scene_->valid_count() != 0) report("no nodes, but the scene has valid primitives");
     return problems;
   }
   const ClipToCell clip = scene_clipper(*scene_);

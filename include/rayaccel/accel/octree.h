@@ -148,8 +148,14 @@ class Octree final : public AcceleratorImpl<Octree> {
   /// Splitting helps when some child holds some but not all of the cell's primitives, or when a single child holds
   /// them all (the cell shrinks around them). When two or more children would each hold all of them (a stack of
   /// duplicates on a large triangle, or large triangles covering the cell) it cannot: such a stack would otherwise
-  /// split down to max_depth over the triangle's whole area.
+  /// split down to max_depth over the triangle's whole area. Nor does it help when the children would together hold
+  /// more than kMaxReferenceGrowth times the cell's references (long slivers whose boxes overlap most octants):
+  /// references would multiply at every level without separating anything.
+  static constexpr std::size_t kMaxReferenceGrowth = 4;
   static bool worth_splitting(const std::array<std::size_t, 8>& child_counts, std::size_t count) {
+    std::size_t total = 0;
+    for (std::size_t c : child_counts) total += c;
+    if (total > kMaxReferenceGrowth * count) return false;
     const auto occupied = std::count_if(child_counts.begin(), child_counts.end(), [](std::size_t c) { return c > 0; });
     return occupied == 1 ||
            std::any_of(child_counts.begin(), child_counts.end(), [&](std::size_t c) { return c > 0 && c < count; });
