@@ -68,22 +68,22 @@ std::string ReferenceCheck::description() const {
 void ReferenceCheck::settle(std::size_t workload, const std::vector<std::size_t>& indices) const {
   const Workload& w = workloads_[workload];
   auto& settled = settled_[workload];
-  std::vector<std::size_t> todo;
+  std::vector<std::size_t> pending;
   for (std::size_t i : indices) {
-    if (!settled.count(i)) todo.push_back(i);
+    if (!settled.count(i)) pending.push_back(i);
   }
-  if (todo.empty()) return;
+  if (pending.empty()) return;
   // One parallel brute-force batch for every new disagreement; the answers are kept for the next structures.
-  std::vector<Ray> rays(todo.size());
-  for (std::size_t j = 0; j < todo.size(); ++j) rays[j] = w.rays[answers_[workload].indices[todo[j]]];
+  std::vector<Ray> rays(pending.size());
+  for (std::size_t j = 0; j < pending.size(); ++j) rays[j] = w.rays[answers_[workload].indices[pending[j]]];
   if (w.any_hit()) {
     std::vector<std::uint8_t> occluded(rays.size());
     oracle_.occluded(rays, occluded);
-    for (std::size_t j = 0; j < todo.size(); ++j) settled[todo[j]].occluded = occluded[j] != 0;
+    for (std::size_t j = 0; j < pending.size(); ++j) settled[pending[j]].occluded = occluded[j] != 0;
   } else {
     std::vector<Hit> hits(rays.size());
     oracle_.intersect(rays, hits);
-    for (std::size_t j = 0; j < todo.size(); ++j) settled[todo[j]].hit = hits[j];
+    for (std::size_t j = 0; j < pending.size(); ++j) settled[pending[j]].hit = hits[j];
   }
 }
 

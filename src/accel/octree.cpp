@@ -205,11 +205,11 @@ std::size_t Octree::memory_bytes() const {
 std::vector<BuildStatistic> Octree::build_statistics() const {
   std::size_t leaves = 0, empty = 0, references = 0, interior = 0;
   int max_depth = 0;
-  std::vector<std::pair<std::uint32_t, int>> todo;
-  if (!nodes_.empty()) todo.push_back({0, 0});
-  while (!todo.empty()) {
-    const auto [node, depth] = todo.back();
-    todo.pop_back();
+  std::vector<std::pair<std::uint32_t, int>> pending;
+  if (!nodes_.empty()) pending.push_back({0, 0});
+  while (!pending.empty()) {
+    const auto [node, depth] = pending.back();
+    pending.pop_back();
     max_depth = std::max(max_depth, depth);
     if (nodes_[node].first_child == kLeaf) {
       ++leaves;
@@ -218,7 +218,7 @@ std::vector<BuildStatistic> Octree::build_statistics() const {
       continue;
     }
     ++interior;
-    for (std::uint32_t c = 0; c < 8; ++c) todo.push_back({nodes_[node].first_child + c, depth + 1});
+    for (std::uint32_t c = 0; c < 8; ++c) pending.push_back({nodes_[node].first_child + c, depth + 1});
   }
   return {{"interior_nodes", double(interior)},
           {"leaves", double(leaves)},

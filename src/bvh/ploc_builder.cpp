@@ -107,15 +107,15 @@ class Emitter {
 
  private:
   void append_refs(std::uint32_t c) {
-    std::vector<std::uint32_t> todo{c};
-    while (!todo.empty()) {
-      const Cluster& cl = nodes_[todo.back()];
-      todo.pop_back();
+    std::vector<std::uint32_t> pending{c};
+    while (!pending.empty()) {
+      const Cluster& cl = nodes_[pending.back()];
+      pending.pop_back();
       if (cl.leaf) {
         tree_.refs.push_back(refs_[cl.left]);
       } else {
-        todo.push_back(cl.right);
-        todo.push_back(cl.left);
+        pending.push_back(cl.right);
+        pending.push_back(cl.left);
       }
     }
   }

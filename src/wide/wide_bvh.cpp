@@ -180,11 +180,11 @@ void WideBvh::validate_nodes(const std::vector<Node<W>>& nodes, std::vector<std:
     AABB box;
     int depth;
   };
-  std::vector<Item> todo;
-  if (root_ != kEmptyChild) todo.push_back({root_, scene_->bounds(), 1});
-  while (!todo.empty() && problems.size() < 20) {
-    const Item item = todo.back();
-    todo.pop_back();
+  std::vector<Item> pending;
+  if (root_ != kEmptyChild) pending.push_back({root_, scene_->bounds(), 1});
+  while (!pending.empty() && problems.size() < 20) {
+    const Item item = pending.back();
+    pending.pop_back();
     if (item.depth > kBvhMaxDepth) problems.push_back("depth exceeds the traversal stack bound");
     if (item.ref & kLeafBit) {
       const std::uint32_t first = leaf_first_block(item.ref);
@@ -231,7 +231,7 @@ void WideBvh::validate_nodes(const std::vector<Node<W>>& nodes, std::vector<std:
       }
       const AABB box = child_bounds(node, lane);
       if (!item.box.contains(box)) problems.push_back("child box outside its parent box");
-      todo.push_back({node.child[lane], box, item.depth + 1});
+      pending.push_back({node.child[lane], box, item.depth + 1});
     }
   }
   for (std::uint32_t id = 0; id < seen.size() && problems.size() < 20; ++id) {

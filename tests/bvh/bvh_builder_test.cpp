@@ -23,18 +23,18 @@ int check_tree(const BuildTree& tree, std::uint32_t ref_count, std::uint32_t max
   }
   std::vector<int> seen(ref_count, 0);
   int depth = 0;
-  std::vector<std::pair<std::uint32_t, int>> todo{{0, 1}};
-  while (!todo.empty()) {
-    const auto [i, d] = todo.back();
-    todo.pop_back();
+  std::vector<std::pair<std::uint32_t, int>> pending{{0, 1}};
+  while (!pending.empty()) {
+    const auto [i, d] = pending.back();
+    pending.pop_back();
     depth = std::max(depth, d);
     const BuildNode& n = tree.nodes.at(i);
     if (n.is_leaf()) {
       EXPECT_LE(n.count, max_leaf);
       for (std::uint32_t k = n.first; k < n.first + n.count; ++k) ++seen.at(tree.refs.at(k).prim_id);
     } else {
-      todo.push_back({n.first, d + 1});
-      todo.push_back({n.first + 1, d + 1});
+      pending.push_back({n.first, d + 1});
+      pending.push_back({n.first + 1, d + 1});
     }
   }
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(ref_count));

@@ -47,10 +47,10 @@ void Bvh<BV>::flatten(const BuildTree& tree) {
     std::uint32_t parent;  ///< flat index of the parent whose second-child index this node fills; ~0u for none
     int depth;
   };
-  std::vector<Item> todo{{0, ~0u, 1}};
-  while (!todo.empty()) {
-    const Item item = todo.back();
-    todo.pop_back();
+  std::vector<Item> pending{{0, ~0u, 1}};
+  while (!pending.empty()) {
+    const Item item = pending.back();
+    pending.pop_back();
     const auto index = static_cast<std::uint32_t>(nodes_.size());
     if (item.parent != ~0u) nodes_[item.parent].index = index;
     depth_ = std::max(depth_, item.depth);
@@ -66,8 +66,8 @@ void Bvh<BV>::flatten(const BuildTree& tree) {
       nodes_.push_back(node);
     } else {
       nodes_.push_back(node);
-      todo.push_back({b.first + 1, index, item.depth + 1});  // second child: its index is patched in when emitted
-      todo.push_back({b.first, ~0u, item.depth + 1});        // first child: emitted next, right after this node
+      pending.push_back({b.first + 1, index, item.depth + 1});  // second child: its index is patched in when emitted
+      pending.push_back({b.first, ~0u, item.depth + 1});        // first child: emitted next, right after this node
     }
   }
 }

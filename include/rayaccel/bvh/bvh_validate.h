@@ -34,12 +34,12 @@ std::vector<std::string> Bvh<BV>::validate() const {
   // Structure: walk from the root, count visits per node and per slot, and record subtree slot ranges.
   std::vector<std::uint32_t> node_visits(node_count, 0), slot_visits(slot_count, 0);
   std::vector<std::array<std::uint32_t, 2>> slot_range(node_count, {0, 0});
-  std::vector<std::array<std::uint32_t, 2>> todo{{0, 1}};  // {node, depth}
+  std::vector<std::array<std::uint32_t, 2>> pending{{0, 1}};  // {node, depth}
   int max_depth = 0;
   bool structure_ok = true;
-  while (!todo.empty()) {
-    const auto [i, depth] = todo.back();
-    todo.pop_back();
+  while (!pending.empty()) {
+    const auto [i, depth] = pending.back();
+    pending.pop_back();
     max_depth = std::max(max_depth, static_cast<int>(depth));
     if (++node_visits[i] > 1) {
       report("node " + std::to_string(i) + " is reached more than once");
@@ -68,8 +68,8 @@ std::vector<std::string> Bvh<BV>::validate() const {
              std::to_string(kBvhMaxDepth));
       structure_ok = false;
     } else {
-      todo.push_back({node.index, depth + 1});
-      todo.push_back({i + 1, depth + 1});
+      pending.push_back({node.index, depth + 1});
+      pending.push_back({i + 1, depth + 1});
     }
   }
   if (max_depth != depth_) report("recorded depth " + std::to_string(depth_) + " but the tree has " +
