@@ -1,6 +1,7 @@
 // General BSP tree: build glue, build statistics, validate() and registration (traversal is in bsp_tree.h, the
 // builder in bsp_tree_build.cpp, cell polytopes in bsp_tree_polytope.cpp).
 #include "rayaccel/accel/bsp_tree.h"
+#include "rayaccel/accel/split_tree_report.h"
 
 #include <algorithm>
 #include <array>
@@ -68,27 +69,19 @@ std::vector<BuildStatistic> BspTree::build_statistics() const {
     stack.push_back({index + 1, depth + 1});
     stack.push_back({n.above_child(), depth + 1});
   }
-  const std::size_t prims = scene_ ? scene_->valid_count() : 0;
-  return {{"nodes", double(data_.nodes.size())},
-          {"leaves", double(leaves)},
-          {"empty_leaves", double(empty_leaves)},
-          {"max_depth", double(max_depth)},
-          {"references_per_primitive", prims ? double(data_.prim_indices.size()) / double(prims) : 0.0},
-          {"sah_cost", data_.sah_cost},
-          {"build_ms", build_ms_}};
+  return split_tree_statistics({data_.nodes.size(), leaves, empty_leaves, max_depth, data_.prim_indices.size(),
+                                data_.sah_cost, build_ms_},
+                               scene_);
 }
 
 std::vector<std::string> BspTree::validate() const {
   if (!scene_) return {"not built"};
-  std::vector<std::string> problems;
-  auto report = [&](const std::string& s) {
-    if (problems.size() < 20) problems.push_back(s);
-  };
+  ProblemList report;
   const std::size_t node_count = data_.nodes.size();
   const std::uint32_t prim_count = scene_->primitive_count();
   if (node_count == 0) {
     if (scene_->valid_count() != 0) report("no nodes, but the scene has valid primitives");
-    return problems;
+    return report.problems;
   }
   std::vector<std::uint8_t> referenced(prim_count, 0), reached(node_count, 0);
   std::vector<PathPlane> path;
@@ -135,13 +128,8 @@ std::vector<std::string> BspTree::validate() const {
       }
     }
   }
-  for (std::size_t i = 0; i < node_count; ++i) {
-    if (!reached[i]) { report("node " + std::to_string(i) + " is unreachable"); break; }
-  }
-  for (std::uint32_t id = 0; id < prim_count; ++id) {
-    if (scene_->is_valid(id) && !referenced[id]) report("primitive " + std::to_string(id) + " is in no leaf");
-  }
-  return problems;
+  report_unreached(reached, referenced, *scene_, report);
+  return report.problems;
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // kd-tree: build dispatch, build statistics, validate() and registration (traversal is in kd_tree.h, builders in
 // kd_tree_build.cpp).
 #include "rayaccel/accel/kd_tree.h"
+#include "rayaccel/accel/split_tree_report.h"
 
 #include <algorithm>
 #include <chrono>
@@ -95,27 +96,19 @@ std::vector<BuildStatistic> KdTree::build_statistics() const {
     }
     return true;
   });
-  const std::size_t prims = scene_ ? scene_->valid_count() : 0;
-  return {{"nodes", double(data_.nodes.size())},
-          {"leaves", double(leaves)},
-          {"empty_leaves", double(empty_leaves)},
-          {"max_depth", double(max_depth)},
-          {"references_per_primitive", prims ? double(data_.prim_indices.size()) / double(prims) : 0.0},
-          {"sah_cost", sah},
-          {"build_ms", build_ms_}};
+  return split_tree_statistics({data_.nodes.size(), leaves, empty_leaves, max_depth, data_.prim_indices.size(),
+                                sah, build_ms_},
+                               scene_);
 }
 
 std::vector<std::string> KdTree::validate() const {
   if (!scene_) return {"not built"};
-  std::vector<std::string> problems;
-  auto report = [&](const std::string& s) {
-    if (problems.size() < 20) problems.push_back(s);
-  };
+  ProblemList report;
   const std::size_t node_count = data_.nodes.size();
   const std::uint32_t prim_count = scene_->primitive_count();
   if (node_count == 0) {
     if (scene_->valid_count() != 0) report("no nodes, but the scene has valid primitives");
-    return problems;
+    return report.problems;
   }
   const ClipToCell clip = scene_clipper(*scene_);
   const int depth_limit = kd_tree_max_depth(options_, scene_->valid_count());
@@ -148,13 +141,8 @@ std::vector<std::string> KdTree::validate() const {
     }
     return true;
   });
-  for (std::size_t i = 0; i < node_count; ++i) {
-    if (!reached[i]) { report("node " + std::to_string(i) + " is unreachable"); break; }
-  }
-  for (std::uint32_t id = 0; id < prim_count; ++id) {
-    if (scene_->is_valid(id) && !referenced[id]) report("primitive " + std::to_string(id) + " is in no leaf");
-  }
-  return problems;
+  report_unreached(reached, referenced, *scene_, report);
+  return report.problems;
 }
 
 namespace {
