@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <span>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -57,22 +58,23 @@ bool cpu_has_avx2() {
 
 std::uint32_t WideBvh::emit_leaf(const BuildTree& tree, std::uint32_t binary_node) {
   const BuildNode& n = tree.nodes[binary_node];
-  std::vector<std::uint32_t> ids;
-  ids.reserve(n.count);
+  if (n.count > 4 * kMaxLeafBlocks) {
+    throw Error("wide BVH: a binary leaf holds " + std::to_string(n.count) + " primitives, more than the " +
+                std::to_string(4 * kMaxLeafBlocks) + " a wide leaf can take");
+  }
+  std::array<std::uint32_t, 4 * kMaxLeafBlocks> id_storage;
+  std::size_t id_count = 0;
   for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
     const std::uint32_t id = tree.refs[i].prim_id;
     if (triangles_ && has_coincident_vertices(scene_->triangle(id))) {
       ++skipped_degenerate_;
       continue;
     }
-    ids.push_back(id);
+    id_storage[id_count++] = id;
   }
+  const std::span<const std::uint32_t> ids(id_storage.data(), id_count);
   if (ids.empty()) return kEmptyChild;
   const auto block_count = static_cast<std::uint32_t>((ids.size() + 3) / 4);
-  if (block_count > kMaxLeafBlocks) {
-    throw Error("wide BVH: a binary leaf holds " + std::to_string(ids.size()) + " primitives, more than the " +
-                std::to_string(4 * kMaxLeafBlocks) + " a wide leaf can take");
-  }
   const auto first_block = static_cast<std::uint32_t>(blocks_.size());
   for (std::uint32_t b = 0; b < block_count; ++b) {
     Triangle4 block{};

@@ -30,8 +30,8 @@ struct BinnedSplit {
   float cost = 0.0f;         ///< area(left) * count(left) + area(right) * count(right)
   AABB left, right;          ///< bounds of each side
   std::uint32_t left_count = 0;
-  float centroid_lo = 0.0f;  ///< lower centroid bound on `axis`
-  float scale = 0.0f;        ///< bins per unit length on `axis`
+  float centroid_lo = 0.0f;  ///< lower bound on `axis` of the doubled centroids (lo + hi) that were binned
+  float scale = 0.0f;        ///< bins per unit of doubled centroid on `axis`
 };
 
 BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_count);
