@@ -104,8 +104,12 @@ struct SweepBoxes {
     }
     count = _mm_add_epi32(count, bins.counts(i));
   }
-  /// half area * count per axis
-  __m128 cost() const { return _mm_mul_ps(half_areas(lo, hi), _mm_cvtepi32_ps(count)); }
+  /// half area * blocks per axis, where blocks = ceil(count / 2^block_shift)
+  __m128 cost(int block_shift) const {
+    const __m128i round_up = _mm_set1_epi32((1 << block_shift) - 1);
+    const __m128i blocks = _mm_srl_epi32(_mm_add_epi32(count, round_up), _mm_cvtsi32_si128(block_shift));
+    return _mm_mul_ps(half_areas(lo, hi), _mm_cvtepi32_ps(blocks));
+  }
 };
 
 BinMap map_for(std::span<const PrimRef> refs, std::uint32_t bin_count) {
@@ -128,7 +132,7 @@ BinMap map_for(std::span<const PrimRef> refs, std::uint32_t bin_count) {
 
 }  // namespace
 
-BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_count) {
+BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_count, int block_shift) {
   BinnedSplit best;
   const BinMap map = map_for(refs, bin_count);
   // Reused per thread and cleared only as far as used: small nodes are many.
@@ -160,7 +164,7 @@ BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_c
   SweepBoxes right;
   for (std::uint32_t i = bin_count - 1; i > 0; --i) {
     right.add(bins, i);
-    _mm_store_ps(right_cost[i], right.cost());
+    _mm_store_ps(right_cost[i], right.cost(block_shift));
     _mm_store_si128(reinterpret_cast<__m128i*>(right_count[i]), right.count);
   }
   // Left to right: best boundary per axis (strict <: the first of equal costs wins, as in axis-then-bin order).
@@ -171,7 +175,7 @@ BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_c
   for (std::uint32_t i = 0; i + 1 < bin_count; ++i) {
     left.add(bins, i);
     const __m128i right_n = _mm_load_si128(reinterpret_cast<const __m128i*>(right_count[i + 1]));
-    const __m128 cost = _mm_add_ps(left.cost(), _mm_load_ps(right_cost[i + 1]));
+    const __m128 cost = _mm_add_ps(left.cost(block_shift), _mm_load_ps(right_cost[i + 1]));
     const __m128 both_sides = _mm_castsi128_ps(
         _mm_andnot_si128(_mm_or_si128(_mm_cmpeq_epi32(left.count, zero), _mm_cmpeq_epi32(right_n, zero)),
                          _mm_set1_epi32(-1)));
@@ -247,12 +251,18 @@ BuildTree build_binned_sah(std::vector<PrimRef> refs, const BinnedSahConfig& con
     throw Error("binned SAH: bin count " + std::to_string(config.bin_count) + " is outside 2.." +
                 std::to_string(kMaxBins));
   }
+  if (config.block_size < 1 || config.block_size > 64 || (config.block_size & (config.block_size - 1)) != 0) {
+    throw Error("binned SAH: block size " + std::to_string(config.block_size) + " is not a power of two in 1..64");
+  }
+  const int block_shift = __builtin_ctz(config.block_size);
   const TopDownLimits limits{config.max_leaf_size, config.parallel_threshold};
   return build_top_down(std::move(refs), limits, [&](std::uint32_t, std::span<PrimRef> node_refs) -> std::size_t {
-    const BinnedSplit split = find_binned_split(node_refs, config.bin_count);
+    const BinnedSplit split = find_binned_split(node_refs, config.bin_count, block_shift);
     if (split.axis < 0) return 0;
     const float area = merge(split.left, split.right).surface_area();
-    if (sah_prefers_leaf(node_refs.size(), area, split.cost, config.max_leaf_size, config.costs)) return 0;
+    if (sah_prefers_leaf(node_refs.size(), area, split.cost, config.max_leaf_size, config.costs, block_shift)) {
+      return 0;
+    }
     return partition_binned(node_refs, split, config.bin_count);
   });
 }

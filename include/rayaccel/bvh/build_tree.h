@@ -61,12 +61,14 @@ void build_median_subtree(BuildTree& tree, std::uint32_t node, std::uint32_t fir
 namespace rayaccel {
 
 /// True when a node of `count` references and surface area `area` is cheaper as a leaf than split with the best
-/// split found, whose unnormalized cost is sum(area(child) * count(child)). Compared without dividing by `area`, so
-/// nodes of zero area (points) are handled: they become leaves when small enough.
+/// split found, whose unnormalized cost is sum(area(child) * blocks(child)). Compared without dividing by `area`, so
+/// nodes of zero area (points) are handled: they become leaves when small enough. A leaf tests its references in
+/// blocks of 2^block_shift at the price of one (0: one at a time).
 inline bool sah_prefers_leaf(std::size_t count, float area, float best_split_cost, std::uint32_t max_leaf_size,
-                             const SahCosts& costs) {
+                             const SahCosts& costs, int block_shift = 0) {
   if (count > max_leaf_size) return false;
-  const float leaf = costs.intersection * static_cast<float>(count) * area;
+  const std::size_t blocks = (count + (std::size_t{1} << block_shift) - 1) >> block_shift;
+  const float leaf = costs.intersection * static_cast<float>(blocks) * area;
   const float split = costs.traversal * area + costs.intersection * best_split_cost;
   return leaf <= split;
 }
