@@ -7,12 +7,49 @@
 
 #include "rayaccel/core/ray.h"
 #include "rayaccel/geometry/ray_box.h"
+#include "rayaccel/wide/simd_kernels.h"
 #include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
 
+/// The triangle test's operations over eight AVX2 lanes (see Sse4): one Triangle4 block per 128-bit half.
+struct Avx8 {
+  static constexpr int kWidth = 8;
+  using F = __m256;
+#define RAYACCEL_AVX2 __attribute__((target("avx2")))
+  RAYACCEL_AVX2 static F set1(float x) { return _mm256_set1_ps(x); }
+  RAYACCEL_AVX2 static F zero() { return _mm256_setzero_ps(); }
+  RAYACCEL_AVX2 static F all_ones() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
+  RAYACCEL_AVX2 static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  RAYACCEL_AVX2 static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
+  RAYACCEL_AVX2 static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  RAYACCEL_AVX2 static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  RAYACCEL_AVX2 static F max(F a, F b) { return _mm256_max_ps(a, b); }
+  RAYACCEL_AVX2 static F bit_and(F a, F b) { return _mm256_and_ps(a, b); }
+  RAYACCEL_AVX2 static F bit_or(F a, F b) { return _mm256_or_ps(a, b); }
+  RAYACCEL_AVX2 static F and_not(F a, F b) { return _mm256_andnot_ps(a, b); }
+  RAYACCEL_AVX2 static F eq(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+  RAYACCEL_AVX2 static F neq(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ); }  // as _mm_cmpneq_ps
+  RAYACCEL_AVX2 static F lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OS); }
+  RAYACCEL_AVX2 static F le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OS); }
+  RAYACCEL_AVX2 static F gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OS); }
+  RAYACCEL_AVX2 static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OS); }
+  RAYACCEL_AVX2 static int movemask(F a) { return _mm256_movemask_ps(a); }
+  RAYACCEL_AVX2 static void store(float* p, F a) { _mm256_storeu_ps(p, a); }
+  RAYACCEL_AVX2 static F load_vertex(const Triangle4* const* blocks, int v, int axis) {
+    return _mm256_set_m128(_mm_load_ps(blocks[1]->vertex[v][axis]), _mm_load_ps(blocks[0]->vertex[v][axis]));
+  }
+  RAYACCEL_AVX2 static F padding(const Triangle4* const* blocks) {
+    const __m256i ids = _mm256_set_m128i(_mm_load_si128(reinterpret_cast<const __m128i*>(blocks[1]->prim_id)),
+                                         _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id)));
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1)));
+  }
+#undef RAYACCEL_AVX2
+};
+
 struct BoxKernel8 {
   static constexpr int kWidth = 8;
+  using Lanes = Avx8;  ///< lanes of the leaf test used with this node width
   struct Packet {
     __m256 origin[3];
     __m256 inv_direction[3];

@@ -15,15 +15,12 @@
 
 namespace rayaccel::wide {
 
-/// Per-ray constants of the four-wide kernels, splatted once per ray.
+/// Per-ray constants of the four-wide box test, splatted once per ray.
 struct RayPacket4 {
   __m128 origin[3];
   __m128 inv_direction[3];
   int near_offset[3];  ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
   __m128 t_min;
-  // Triangle test: origin and shear in the ray's (kx, ky, kz) frame.
-  __m128 origin_k[3];
-  __m128 shear_x, shear_y, shear_z;
 
   explicit RayPacket4(const PreparedRay& r) {
     for (int a = 0; a < 3; ++a) {
@@ -32,12 +29,6 @@ struct RayPacket4 {
       near_offset[a] = r.negative[a];
     }
     t_min = _mm_set1_ps(r.t_min);
-    origin_k[0] = _mm_set1_ps(r.origin[r.kx]);
-    origin_k[1] = _mm_set1_ps(r.origin[r.ky]);
-    origin_k[2] = _mm_set1_ps(r.origin[r.kz]);
-    shear_x = _mm_set1_ps(r.shear_x);
-    shear_y = _mm_set1_ps(r.shear_y);
-    shear_z = _mm_set1_ps(r.shear_z);
   }
 };
 
@@ -79,6 +70,7 @@ inline int intersect_boxes4(const RayPacket4& ray, const float (*bounds)[2][4], 
 /// The four-wide box test in the form the width-generic traversal calls (see BoxKernel8 for eight).
 struct BoxKernel4 {
   static constexpr int kWidth = 4;
+  using Lanes = struct Sse4;  ///< lanes of the leaf test used with this node width
   using Packet = RayPacket4;
   static Packet prepare(const PreparedRay& r) { return RayPacket4(r); }
   static int intersect(const Packet& ray, const Node<4>& node, float t_far, float* t_entry) {
@@ -97,75 +89,120 @@ struct alignas(16) Triangle4 {
 };
 static_assert(sizeof(Triangle4) == 160, "Triangle4: 144 bytes of vertices + 16 bytes of ids");
 
-/// Tests the four triangles; updates hit with the closest one in (t_min, hit.t). Returns true on any update.
-inline bool intersect_triangles4(const RayPacket4& ray, const PreparedRay& scalar_ray, const Triangle4& tri,
-                                 Hit& hit) {
+/// The SIMD operations the triangle test is written over, four lanes of SSE2 (every x86-64 CPU has it); the eight
+/// lane AVX2 set is in avx2_kernels.h. A test over W lanes reads W / 4 Triangle4 blocks.
+struct Sse4 {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  static F set1(float x) { return _mm_set1_ps(x); }
+  static F zero() { return _mm_setzero_ps(); }
+  static F all_ones() { return _mm_castsi128_ps(_mm_set1_epi32(-1)); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
+  static F bit_and(F a, F b) { return _mm_and_ps(a, b); }
+  static F bit_or(F a, F b) { return _mm_or_ps(a, b); }
+  static F and_not(F a, F b) { return _mm_andnot_ps(a, b); }  ///< ~a & b
+  static F eq(F a, F b) { return _mm_cmpeq_ps(a, b); }
+  static F neq(F a, F b) { return _mm_cmpneq_ps(a, b); }
+  static F lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static F le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static F gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
+  static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }
+  static int movemask(F a) { return _mm_movemask_ps(a); }
+  static void store(float* p, F a) { _mm_storeu_ps(p, a); }
+  static F load_vertex(const Triangle4* const* blocks, int v, int axis) { return _mm_load_ps(blocks[0]->vertex[v][axis]); }
+  /// All-ones in lanes that hold no triangle.
+  static F padding(const Triangle4* const* blocks) {
+    const __m128i ids = _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id));
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(ids, _mm_set1_epi32(-1)));
+  }
+};
+
+/// Per-ray constants of the triangle test over S's lanes: the origin and shear in the ray's (kx, ky, kz) frame.
+/// With eight lanes, the packet and the test below are only used inside AVX2 functions (WideBvh::trace_avx2 inlines
+/// everything it calls), so GCC's note that AVX values in code built without AVX change the ABI does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <class S>
+struct TrianglePacket {
+  typename S::F origin_k[3];
+  typename S::F shear_x, shear_y, shear_z, t_min;
+  explicit TrianglePacket(const PreparedRay& r)
+      : origin_k{S::set1(r.origin[r.kx]), S::set1(r.origin[r.ky]), S::set1(r.origin[r.kz])},
+        shear_x(S::set1(r.shear_x)),
+        shear_y(S::set1(r.shear_y)),
+        shear_z(S::set1(r.shear_z)),
+        t_min(S::set1(r.t_min)) {}
+};
+
+/// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
+/// Returns true on any update. Each lane performs the float operations of geometry/ray_triangle.h in the same order
+/// (no FMA contraction: -ffp-contract=off), so the answers are bit-identical to the scalar kernel's; lanes the float
+/// path cannot decide (an edge function exactly 0, or coordinates outside the safe range) go to the scalar kernel.
+template <class S>
+inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
+                                     const Triangle4* const* blocks, Hit& hit) {
+  using F = typename S::F;
+  constexpr int W = S::kWidth;
   const int k[3] = {scalar_ray.kx, scalar_ray.ky, scalar_ray.kz};
-  __m128 px[3], py[3], pz[3];  // vertices relative to the origin, sheared: x, y; and the kz component
+  F px[3], py[3], pz[3];  // vertices relative to the origin, sheared: x, y; and the kz component
   for (int v = 0; v < 3; ++v) {
-    const __m128 ax = _mm_sub_ps(_mm_load_ps(tri.vertex[v][k[0]]), ray.origin_k[0]);
-    const __m128 ay = _mm_sub_ps(_mm_load_ps(tri.vertex[v][k[1]]), ray.origin_k[1]);
-    const __m128 az = _mm_sub_ps(_mm_load_ps(tri.vertex[v][k[2]]), ray.origin_k[2]);
-    px[v] = _mm_sub_ps(ax, _mm_mul_ps(ray.shear_x, az));
-    py[v] = _mm_sub_ps(ay, _mm_mul_ps(ray.shear_y, az));
+    const F ax = S::sub(S::load_vertex(blocks, v, k[0]), ray.origin_k[0]);
+    const F ay = S::sub(S::load_vertex(blocks, v, k[1]), ray.origin_k[1]);
+    const F az = S::sub(S::load_vertex(blocks, v, k[2]), ray.origin_k[2]);
+    px[v] = S::sub(ax, S::mul(ray.shear_x, az));
+    py[v] = S::sub(ay, S::mul(ray.shear_y, az));
     pz[v] = az;
   }
   // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
-  const __m128 eu = _mm_sub_ps(_mm_mul_ps(px[2], py[1]), _mm_mul_ps(py[2], px[1]));
-  const __m128 ev = _mm_sub_ps(_mm_mul_ps(px[0], py[2]), _mm_mul_ps(py[0], px[2]));
-  const __m128 ew = _mm_sub_ps(_mm_mul_ps(px[1], py[0]), _mm_mul_ps(py[1], px[0]));
-  const __m128 zero = _mm_setzero_ps();
-  const __m128i padding = _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(tri.prim_id)),
-                                          _mm_set1_epi32(-1));
+  const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
+  const F ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));
+  const F ew = S::sub(S::mul(px[1], py[0]), S::mul(py[1], px[0]));
+  const F zero = S::zero();
+  const F padding = S::padding(blocks);
   // Lanes the float kernel cannot decide alone: an edge function of exactly zero (double-precision fallback) or
   // coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
-  const __m128 sign_bit = _mm_set1_ps(-0.0f);
-  __m128 magnitude = _mm_andnot_ps(sign_bit, pz[0]);
+  const F sign_bit = S::set1(-0.0f);
+  F magnitude = S::and_not(sign_bit, pz[0]);
   for (int v = 0; v < 3; ++v) {
-    magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, px[v]), magnitude);
-    magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, py[v]), magnitude);
-    magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, pz[v]), magnitude);
+    magnitude = S::max(S::and_not(sign_bit, px[v]), magnitude);
+    magnitude = S::max(S::and_not(sign_bit, py[v]), magnitude);
+    magnitude = S::max(S::and_not(sign_bit, pz[v]), magnitude);
   }
-  const __m128 safe = _mm_and_ps(_mm_cmple_ps(magnitude, _mm_set1_ps(kShearSafeMax)),
-                                 _mm_cmpge_ps(magnitude, _mm_set1_ps(kShearSafeMin)));
-  const __m128 on_edge_lanes =
-      _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(eu, zero), _mm_cmpeq_ps(ev, zero)), _mm_cmpeq_ps(ew, zero));
-  const __m128 unsafe = _mm_andnot_ps(safe, _mm_castsi128_ps(_mm_set1_epi32(-1)));
-  const int on_edge = _mm_movemask_ps(_mm_andnot_ps(_mm_castsi128_ps(padding), _mm_or_ps(on_edge_lanes, unsafe)));
-  const __m128 any_negative =
-      _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(eu, zero), _mm_cmplt_ps(ev, zero)), _mm_cmplt_ps(ew, zero));
-  const __m128 any_positive =
-      _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(eu, zero), _mm_cmpgt_ps(ev, zero)), _mm_cmpgt_ps(ew, zero));
+  const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
+  const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
+  const F unsafe = S::and_not(safe, S::all_ones());
+  const int on_edge = S::movemask(S::and_not(padding, S::bit_or(on_edge_lanes, unsafe)));
+  const F any_negative = S::bit_or(S::bit_or(S::lt(eu, zero), S::lt(ev, zero)), S::lt(ew, zero));
+  const F any_positive = S::bit_or(S::bit_or(S::gt(eu, zero), S::gt(ev, zero)), S::gt(ew, zero));
   // Most tested triangles are missed: leave before the depth and the division when no lane can be hit.
-  const __m128 mixed_signs = _mm_and_ps(any_negative, any_positive);
-  if ((_mm_movemask_ps(_mm_andnot_ps(_mm_or_ps(mixed_signs, _mm_castsi128_ps(padding)),
-                                     _mm_castsi128_ps(_mm_set1_epi32(-1)))) |
-       on_edge) == 0) {
-    return false;
-  }
-  const __m128 det = _mm_add_ps(_mm_add_ps(eu, ev), ew);
-  const __m128 az = _mm_mul_ps(ray.shear_z, pz[0]);
-  const __m128 bz = _mm_mul_ps(ray.shear_z, pz[1]);
-  const __m128 cz = _mm_mul_ps(ray.shear_z, pz[2]);
-  const __m128 scaled_t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(eu, az), _mm_mul_ps(ev, bz)), _mm_mul_ps(ew, cz));
-  const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
-  const __m128 t = _mm_mul_ps(scaled_t, inv_det);
-  const __m128 valid = _mm_andnot_ps(mixed_signs,
-                                     _mm_and_ps(_mm_cmpneq_ps(det, zero),
-                                                _mm_and_ps(_mm_cmpgt_ps(t, ray.t_min),
-                                                           _mm_cmplt_ps(t, _mm_set1_ps(hit.t)))));
-  int lanes = _mm_movemask_ps(valid) & ~on_edge;
+  const F mixed_signs = S::bit_and(any_negative, any_positive);
+  if ((S::movemask(S::and_not(S::bit_or(mixed_signs, padding), S::all_ones())) | on_edge) == 0) return false;
+  const F det = S::add(S::add(eu, ev), ew);
+  const F az = S::mul(ray.shear_z, pz[0]);
+  const F bz = S::mul(ray.shear_z, pz[1]);
+  const F cz = S::mul(ray.shear_z, pz[2]);
+  const F scaled_t = S::add(S::add(S::mul(eu, az), S::mul(ev, bz)), S::mul(ew, cz));
+  const F inv_det = S::div(S::set1(1.0f), det);
+  const F t = S::mul(scaled_t, inv_det);
+  const F valid = S::and_not(
+      mixed_signs,
+      S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, ray.t_min), S::lt(t, S::set1(hit.t)))));
+  int lanes = S::movemask(valid) & ~on_edge;
   bool updated = false;
   if (lanes) {
-    alignas(16) float t_lane[4], u_lane[4], v_lane[4];
-    _mm_store_ps(t_lane, t);
-    _mm_store_ps(u_lane, _mm_mul_ps(ev, inv_det));
-    _mm_store_ps(v_lane, _mm_mul_ps(ew, inv_det));
+    float t_lane[W], u_lane[W], v_lane[W];
+    S::store(t_lane, t);
+    S::store(u_lane, S::mul(ev, inv_det));
+    S::store(v_lane, S::mul(ew, inv_det));
     for (; lanes; lanes &= lanes - 1) {
       const int lane = __builtin_ctz(static_cast<unsigned>(lanes));
       if (t_lane[lane] < hit.t) {
         hit.t = t_lane[lane];
-        hit.prim_id = tri.prim_id[lane];
+        hit.prim_id = blocks[lane / 4]->prim_id[lane % 4];
         hit.u = u_lane[lane];
         hit.v = v_lane[lane];
         updated = true;
@@ -174,12 +211,22 @@ inline bool intersect_triangles4(const RayPacket4& ray, const PreparedRay& scala
   }
   for (int rest = on_edge; rest; rest &= rest - 1) {
     const int lane = __builtin_ctz(static_cast<unsigned>(rest));
-    const Vec3 v0{tri.vertex[0][0][lane], tri.vertex[0][1][lane], tri.vertex[0][2][lane]};
-    const Vec3 v1{tri.vertex[1][0][lane], tri.vertex[1][1][lane], tri.vertex[1][2][lane]};
-    const Vec3 v2{tri.vertex[2][0][lane], tri.vertex[2][1][lane], tri.vertex[2][2][lane]};
-    updated |= intersect_triangle(scalar_ray, v0, v1, v2, tri.prim_id[lane], hit);
+    const Triangle4& block = *blocks[lane / 4];
+    const int i = lane % 4;
+    const Vec3 v0{block.vertex[0][0][i], block.vertex[0][1][i], block.vertex[0][2][i]};
+    const Vec3 v1{block.vertex[1][0][i], block.vertex[1][1][i], block.vertex[1][2][i]};
+    const Vec3 v2{block.vertex[2][0][i], block.vertex[2][1][i], block.vertex[2][2][i]};
+    updated |= intersect_triangle(scalar_ray, v0, v1, v2, block.prim_id[i], hit);
   }
   return updated;
+}
+#pragma GCC diagnostic pop
+
+/// Tests the four triangles of one block (see intersect_triangle_lanes).
+inline bool intersect_triangles4(const TrianglePacket<Sse4>& ray, const PreparedRay& scalar_ray, const Triangle4& tri,
+                                 Hit& hit) {
+  const Triangle4* blocks[1] = {&tri};
+  return intersect_triangle_lanes<Sse4>(ray, scalar_ray, blocks, hit);
 }
 
 }  // namespace rayaccel::wide

@@ -70,9 +70,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   }
   template <class Kernel, bool AnyHit, class Stats>
   void traverse(const std::vector<Node<Kernel::kWidth>>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
-  template <bool AnyHit, class Stats>
-  bool intersect_leaf(std::uint32_t ref, const RayPacket4& packet, const PreparedRay& ray, Hit& hit,
-                      Stats& stats) const;
+  template <class Lanes, bool AnyHit, class Stats>
+  bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4>& packet4, const TrianglePacket<Lanes>& packet,
+                      const PreparedRay& ray, Hit& hit, Stats& stats) const;
 
   WideBvhConfig config_;
   int width_ = 4;
@@ -87,23 +87,36 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::uint32_t skipped_degenerate_ = 0;
 };
 
-template <bool AnyHit, class Stats>
-inline bool WideBvh::intersect_leaf(std::uint32_t ref, const RayPacket4& packet, const PreparedRay& ray, Hit& hit,
+/// Tests a leaf's blocks: two at a time when Lanes is eight wide (AVX2), one at a time with SSE otherwise.
+template <class Lanes, bool AnyHit, class Stats>
+inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4>& packet4,
+                                    const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
                                     Stats& stats) const {
-  const std::uint32_t first = leaf_first_block(ref);
-  const std::uint32_t end = first + leaf_block_count(ref);
+  std::uint32_t b = leaf_first_block(ref);
+  const std::uint32_t end = b + leaf_block_count(ref);
   bool found = false;
-  for (std::uint32_t b = first; b < end; ++b) {
-    if (triangles_) {
-      stats.test_primitive(4);
-      found |= intersect_triangles4(packet, ray, blocks_[b], hit);
-    } else {
+  if (!triangles_) {
+    for (; b < end; ++b) {
       for (std::uint32_t id : blocks_[b].prim_id) {
         if (id == kInvalidPrimId) continue;
         stats.test_primitive();
         found |= scene_->intersect(id, ray, hit);
+        if (AnyHit && found) return true;
       }
     }
+    return found;
+  }
+  if constexpr (Lanes::kWidth == 8) {
+    for (; b + 1 < end; b += 2) {
+      const Triangle4* pair[2] = {&blocks_[b], &blocks_[b + 1]};
+      stats.test_primitive(8);
+      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
+      if (AnyHit && found) return true;
+    }
+  }
+  for (; b < end; ++b) {
+    stats.test_primitive(4);
+    found |= intersect_triangles4(packet4, ray, blocks_[b], hit);
     if (AnyHit && found) return true;
   }
   return found;
@@ -114,7 +127,8 @@ inline void WideBvh::traverse(const std::vector<Node<Kernel::kWidth>>& nodes, co
                               Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (root_ == kEmptyChild) return;
-  const RayPacket4 triangle_packet(ray);
+  const TrianglePacket<Sse4> triangle_packet4(ray);
+  const TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
   struct Entry {
     std::uint32_t ref;
@@ -126,7 +140,10 @@ inline void WideBvh::traverse(const std::vector<Node<Kernel::kWidth>>& nodes, co
   for (;;) {
     stats.visit_node();
     if (ref & kLeafBit) {
-      if (intersect_leaf<AnyHit>(ref, triangle_packet, ray, hit, stats) && AnyHit) return;
+      if (intersect_leaf<typename Kernel::Lanes, AnyHit>(ref, triangle_packet4, triangle_packet, ray, hit, stats) &&
+          AnyHit) {
+        return;
+      }
     } else {
       const Node<W>& node = nodes[ref];
       alignas(32) float entry[W];

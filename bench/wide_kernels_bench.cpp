@@ -1,0 +1,137 @@
+// Micro-benchmarks of the wide BVH's kernels: one ray against the 4 or 8 child boxes of a node (SSE, AVX2) and
+// against 4 or 8 triangles (Triangle4 block with SSE, two blocks with AVX2). Time per call; the per-ray constants are
+// made once per ray, as traversal does.
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include "rayaccel/wide/avx2_kernels.h"
+#include "rayaccel/wide/simd_kernels.h"
+#include "rayaccel/wide/wide_bvh.h"
+
+namespace rayaccel::wide {
+namespace {
+
+constexpr int kRays = 256;
+constexpr int kItems = 64;
+
+float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+
+std::vector<PreparedRay> make_rays() {
+  std::mt19937 rng(1);
+  std::vector<PreparedRay> rays;
+  for (int i = 0; i < kRays; ++i) {
+    const Vec3 o{uniform(rng, -3, 3), uniform(rng, -3, 3), uniform(rng, -3, 3)};
+    const Vec3 target{uniform(rng, -0.5f, 0.5f), uniform(rng, -0.5f, 0.5f), uniform(rng, -0.5f, 0.5f)};
+    rays.emplace_back(Ray{o, 0.0f, target - o, 1e30f});
+  }
+  return rays;
+}
+
+template <int W>
+std::vector<Node<W>> make_nodes() {
+  std::mt19937 rng(2);
+  std::vector<Node<W>> nodes(kItems);
+  for (auto& node : nodes) {
+    for (int lane = 0; lane < W; ++lane) {
+      for (int a = 0; a < 3; ++a) {
+        const float c = uniform(rng, -1, 1), h = uniform(rng, 0.05f, 0.4f);
+        node.bounds[a][0][lane] = c - h;
+        node.bounds[a][1][lane] = c + h;
+      }
+      node.child[lane] = static_cast<std::uint32_t>(lane);
+    }
+  }
+  return nodes;
+}
+
+std::vector<Triangle4> make_blocks() {
+  std::mt19937 rng(3);
+  std::vector<Triangle4> blocks(kItems);
+  std::uint32_t id = 0;
+  for (auto& b : blocks) {
+    for (int lane = 0; lane < 4; ++lane) {
+      const Vec3 c{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)};
+      for (int v = 0; v < 3; ++v) {
+        for (int a = 0; a < 3; ++a) b.vertex[v][a][lane] = c[a] + uniform(rng, -0.3f, 0.3f);
+      }
+      b.prim_id[lane] = id++;
+    }
+  }
+  return blocks;
+}
+
+void BM_BoxKernel4(benchmark::State& state) {
+  const auto rays = make_rays();
+  const auto nodes = make_nodes<4>();
+  alignas(32) float entry[4];
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PreparedRay& r = rays[i % kRays];
+    const BoxKernel4::Packet p = BoxKernel4::prepare(r);
+    int hits = 0;
+    for (const auto& node : nodes) hits += BoxKernel4::intersect(p, node, 1e30f, entry);
+    benchmark::DoNotOptimize(hits);
+    ++i;
+  }
+  state.SetItemsProcessed(state.iterations() * kItems);
+}
+BENCHMARK(BM_BoxKernel4);
+
+__attribute__((target("avx2"), flatten)) int box8_pass(const PreparedRay& r, const std::vector<Node<8>>& nodes) {
+  alignas(32) float entry[8];
+  const BoxKernel8::Packet p = BoxKernel8::prepare(r);
+  int hits = 0;
+  for (const auto& node : nodes) hits += BoxKernel8::intersect(p, node, 1e30f, entry);
+  return hits;
+}
+
+void BM_BoxKernel8(benchmark::State& state) {
+  if (!cpu_has_avx2()) return state.SkipWithError("no AVX2 on this CPU");
+  const auto rays = make_rays();
+  const auto nodes = make_nodes<8>();
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(box8_pass(rays[i++ % kRays], nodes));
+  state.SetItemsProcessed(state.iterations() * kItems);
+}
+BENCHMARK(BM_BoxKernel8);
+
+void BM_TriangleLanes4(benchmark::State& state) {
+  const auto rays = make_rays();
+  const auto blocks = make_blocks();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const PreparedRay& r = rays[i++ % kRays];
+    const TrianglePacket<Sse4> p(r);
+    Hit hit = Hit::begin(r);
+    for (const auto& b : blocks) intersect_triangles4(p, r, b, hit);
+    benchmark::DoNotOptimize(hit);
+  }
+  state.SetItemsProcessed(state.iterations() * kItems);  // blocks of 4 triangles
+}
+BENCHMARK(BM_TriangleLanes4);
+
+__attribute__((target("avx2"), flatten)) Hit triangles8_pass(const PreparedRay& r,
+                                                               const std::vector<Triangle4>& blocks) {
+  const TrianglePacket<Avx8> p(r);
+  Hit hit = Hit::begin(r);
+  for (std::size_t b = 0; b + 1 < blocks.size(); b += 2) {
+    const Triangle4* pair[2] = {&blocks[b], &blocks[b + 1]};
+    intersect_triangle_lanes<Avx8>(p, r, pair, hit);
+  }
+  return hit;
+}
+
+void BM_TriangleLanes8(benchmark::State& state) {
+  if (!cpu_has_avx2()) return state.SkipWithError("no AVX2 on this CPU");
+  const auto rays = make_rays();
+  const auto blocks = make_blocks();
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(triangles8_pass(rays[i++ % kRays], blocks));
+  state.SetItemsProcessed(state.iterations() * kItems);  // blocks of 4 triangles, tested two at a time
+}
+BENCHMARK(BM_TriangleLanes8);
+
+}  // namespace
+}  // namespace rayaccel::wide
