@@ -97,11 +97,12 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
   depth_ = std::max(depth_, depth);
   if (tree.nodes[binary_node].is_leaf()) return emit_leaf(tree, binary_node);
   // Open the inner child of largest surface area until W children are gathered.
-  std::vector<std::uint32_t> children{tree.nodes[binary_node].first, tree.nodes[binary_node].first + 1};
-  while (children.size() < W) {
+  std::array<std::uint32_t, W> children{tree.nodes[binary_node].first, tree.nodes[binary_node].first + 1};
+  int child_count = 2;
+  while (child_count < W) {
     int best = -1;
     float best_area = -1.0f;
-    for (int i = 0; i < static_cast<int>(children.size()); ++i) {
+    for (int i = 0; i < child_count; ++i) {
       const float area = binary_bounds_[children[i]].surface_area();
       if (!tree.nodes[children[i]].is_leaf() && area > best_area) {
         best = i;
@@ -111,7 +112,7 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
     if (best < 0) break;
     const std::uint32_t opened = tree.nodes[children[best]].first;
     children[best] = opened;
-    children.push_back(opened + 1);
+    children[child_count++] = opened + 1;
   }
   const auto index = static_cast<std::uint32_t>(nodes.size());
   nodes.emplace_back();
@@ -121,7 +122,8 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
     set_child_bounds(node, lane, AABB::empty());
   }
   int lane = 0;
-  for (std::uint32_t c : children) {
+  for (int i = 0; i < child_count; ++i) {
+    const std::uint32_t c = children[i];
     const std::uint32_t ref = emit<W>(tree, c, depth + 1, nodes);
     if (ref == kEmptyChild) continue;
     node.child[lane] = ref;
@@ -146,6 +148,17 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   depth_ = 0;
   skipped_degenerate_ = 0;
   binary_bounds_ = binary_node_bounds(tree);
+  // Room for the output without regrowing: one block per started four references of each leaf, and about
+  // one wide node per W - 1 binary interior nodes (the vectors still grow if a tree needs more).
+  std::size_t block_bound = 0;
+  for (const BuildNode& n : tree.nodes) block_bound += n.is_leaf() ? (n.count + 3) / 4 : 0;
+  blocks_.reserve(block_bound);
+  const std::size_t interior = tree.nodes.size() / 2;
+  if (width_ == 8) {
+    nodes8_.reserve(interior / 7 + 16);
+  } else {
+    nodes4_.reserve(interior / 3 + 16);
+  }
   if (tree.nodes.empty()) {
     root_ = kEmptyChild;
   } else {
