@@ -6,6 +6,9 @@
 #include <span>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "rayaccel/core/error.h"
 
 namespace rayaccel::wide {
@@ -56,44 +59,66 @@ bool cpu_has_avx2() {
   return has;
 }
 
+std::size_t WideBvh::leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
+                              std::uint32_t& skipped) const {
+  const BuildNode& n = tree.nodes[binary_node];
+  std::size_t count = 0;
+  skipped = 0;
+  for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+    const std::uint32_t id = tree.refs[i].prim_id;
+    if (triangles_ && coincident_[id]) {
+      ++skipped;
+      continue;
+    }
+    ids[count++] = id;
+  }
+  return count;
+}
+
 std::uint32_t WideBvh::emit_leaf(const BuildTree& tree, std::uint32_t binary_node) {
   const BuildNode& n = tree.nodes[binary_node];
   if (n.count > 4 * kMaxLeafBlocks) {
     throw Error("wide BVH: a binary leaf holds " + std::to_string(n.count) + " primitives, more than the " +
                 std::to_string(4 * kMaxLeafBlocks) + " a wide leaf can take");
   }
-  std::array<std::uint32_t, 4 * kMaxLeafBlocks> id_storage;
-  std::size_t id_count = 0;
-  for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
-    const std::uint32_t id = tree.refs[i].prim_id;
-    if (triangles_ && has_coincident_vertices(scene_->triangle(id))) {
-      ++skipped_degenerate_;
-      continue;
-    }
-    id_storage[id_count++] = id;
-  }
-  const std::span<const std::uint32_t> ids(id_storage.data(), id_count);
-  if (ids.empty()) return kEmptyChild;
-  const auto block_count = static_cast<std::uint32_t>((ids.size() + 3) / 4);
+  std::array<std::uint32_t, 4 * kMaxLeafBlocks> ids;
+  std::uint32_t skipped = 0;
+  const std::size_t count = leaf_ids(tree, binary_node, ids.data(), skipped);
+  skipped_degenerate_ += skipped;
+  if (count == 0) return kEmptyChild;
+  // Blocks are reserved here and filled later in parallel (fill_leaves): copying the triangles is the collapse's
+  // main cost, random reads of the scene's vertices.
+  const auto block_count = static_cast<std::uint32_t>((count + 3) / 4);
   const auto first_block = static_cast<std::uint32_t>(blocks_.size());
-  for (std::uint32_t b = 0; b < block_count; ++b) {
-    Triangle4 block{};
-    for (int lane = 0; lane < 4; ++lane) {
-      const std::size_t i = b * 4 + lane;
-      block.prim_id[lane] = i < ids.size() ? ids[i] : kInvalidPrimId;
-      if (i >= ids.size() || !triangles_) continue;
-      const auto& tri = scene_->triangle(ids[i]);
-      for (int v = 0; v < 3; ++v) {
-        for (int a = 0; a < 3; ++a) block.vertex[v][a][lane] = tri[v][a];
-      }
-    }
-    blocks_.push_back(block);
-  }
+  blocks_.resize(blocks_.size() + block_count);
+  pending_leaves_.push_back({binary_node, first_block});
   return kLeafBit | (first_block << kBlockShift) | (block_count - 1);
 }
 
+void WideBvh::fill_leaves(const BuildTree& tree) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending_leaves_.size(), 512),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                        const PendingLeaf& leaf = pending_leaves_[k];
+                        std::array<std::uint32_t, 4 * kMaxLeafBlocks> ids;
+                        std::uint32_t skipped = 0;
+                        const std::size_t count = leaf_ids(tree, leaf.binary_node, ids.data(), skipped);
+                        for (std::size_t i = 0; i < (count + 3) / 4 * 4; ++i) {
+                          Triangle4& block = blocks_[leaf.first_block + i / 4];
+                          const int lane = static_cast<int>(i % 4);
+                          block.prim_id[lane] = i < count ? ids[i] : kInvalidPrimId;
+                          if (i >= count || !triangles_) continue;
+                          const auto& tri = scene_->triangle(ids[i]);
+                          for (int v = 0; v < 3; ++v) {
+                            for (int a = 0; a < 3; ++a) block.vertex[v][a][lane] = tri[v][a];
+                          }
+                        }
+                      }
+                    });
+}
+
 template <int W>
-std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, int depth, std::vector<Node<W>>& nodes) {
+std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, int depth, NodeArray<W>& nodes) {
   depth_ = std::max(depth_, depth);
   if (tree.nodes[binary_node].is_leaf()) return emit_leaf(tree, binary_node);
   // Open the inner child of largest surface area until W children are gathered.
@@ -148,6 +173,16 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   depth_ = 0;
   skipped_degenerate_ = 0;
   binary_bounds_ = binary_node_bounds(tree);
+  coincident_.assign(triangles_ ? scene.primitive_count() : 0, 0);
+  if (triangles_) {
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, scene.primitive_count(), 4096),
+                      [&](const tbb::blocked_range<std::uint32_t>& range) {
+                        for (std::uint32_t id = range.begin(); id != range.end(); ++id) {
+                          coincident_[id] = scene.is_valid(id) && has_coincident_vertices(scene.triangle(id)) ? 1 : 0;
+                        }
+                      });
+  }
+  pending_leaves_.clear();
   // Room for the output without regrowing: one block per started four references of each leaf, and about
   // one wide node per W - 1 binary interior nodes (the vectors still grow if a tree needs more).
   std::size_t block_bound = 0;
@@ -164,7 +199,10 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   } else {
     root_ = width_ == 8 ? emit<8>(tree, 0, 1, nodes8_) : emit<4>(tree, 0, 1, nodes4_);
   }
+  fill_leaves(tree);
   binary_bounds_ = {};
+  coincident_ = {};
+  pending_leaves_ = {};
   if (depth_ > kBvhMaxDepth) {
     throw Error("wide BVH: tree depth " + std::to_string(depth_) + " exceeds the traversal stack bound");
   }
@@ -188,7 +226,7 @@ std::vector<BuildStatistic> WideBvh::build_statistics() const {
 }
 
 template <int W>
-void WideBvh::validate_nodes(const std::vector<Node<W>>& nodes, std::vector<std::string>& problems) const {
+void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const {
   std::vector<std::uint8_t> seen(scene_->primitive_count(), 0);
   struct Item {
     std::uint32_t ref;

@@ -15,6 +15,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/bvh/binned_sah_builder.h"
 #include "rayaccel/bvh/build_tree.h"
+#include "rayaccel/core/huge_page_allocator.h"
 #include "rayaccel/wide/avx2_kernels.h"
 #include "rayaccel/wide/simd_kernels.h"
 #include "rayaccel/wide/wide_node.h"
@@ -32,6 +33,9 @@ struct WideBvhConfig {
   BinnedSahConfig binary{
       .max_leaf_size = 8, .costs = {.traversal = 1.0f, .intersection = 1.0f}, .bin_count = 16, .block_size = 4};
 };
+
+template <int W>
+using NodeArray = std::vector<Node<W>, HugePageAllocator<Node<W>>>;
 
 /// True when this CPU runs the AVX2 kernels.
 bool cpu_has_avx2();
@@ -59,17 +63,21 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
  private:
   template <int W>
-  std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, std::vector<Node<W>>& nodes);
+  std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, NodeArray<W>& nodes);
   std::uint32_t emit_leaf(const BuildTree& tree, std::uint32_t binary_node);
+  /// The primitives a binary leaf contributes (coincident-vertex triangles left out); `skipped` counts those.
+  std::size_t leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
+                       std::uint32_t& skipped) const;
+  void fill_leaves(const BuildTree& tree);
   template <int W>
-  void validate_nodes(const std::vector<Node<W>>& nodes, std::vector<std::string>& problems) const;
+  void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
   template <bool AnyHit, class Stats>
   __attribute__((target("avx2"), flatten)) void trace_avx2(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
   }
   template <class Kernel, bool AnyHit, class Stats>
-  void traverse(const std::vector<Node<Kernel::kWidth>>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
   bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4>& packet4, const TrianglePacket<Lanes>& packet,
                       const PreparedRay& ray, Hit& hit, Stats& stats) const;
@@ -78,11 +86,17 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   int width_ = 4;
   const Scene* scene_ = nullptr;
   bool triangles_ = true;  ///< false: blocks hold only ids, tested through Scene::intersect
-  std::vector<Node<4>> nodes4_;
-  std::vector<Node<8>> nodes8_;
-  std::vector<Triangle4> blocks_;
+  // Large arrays on transparent huge pages where the system has them (fewer page faults and TLB misses).
+  NodeArray<4> nodes4_;
+  NodeArray<8> nodes8_;
+  std::vector<Triangle4, HugePageAllocator<Triangle4>> blocks_;
   std::uint32_t root_ = kEmptyChild;
   std::vector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
+  struct PendingLeaf {
+    std::uint32_t binary_node, first_block;
+  };
+  std::vector<PendingLeaf> pending_leaves_;  ///< build-time only: leaves whose blocks fill_leaves() writes
+  std::vector<std::uint8_t> coincident_;     ///< build-time only: triangles with coincident vertices (never hit)
   int depth_ = 0;
   std::uint32_t skipped_degenerate_ = 0;
 };
@@ -123,7 +137,7 @@ inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4
 }
 
 template <class Kernel, bool AnyHit, class Stats>
-inline void WideBvh::traverse(const std::vector<Node<Kernel::kWidth>>& nodes, const PreparedRay& ray, Hit& hit,
+inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit,
                               Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (root_ == kEmptyChild) return;

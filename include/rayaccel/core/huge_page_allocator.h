@@ -1,0 +1,55 @@
+// HugePageAllocator: a std::allocator replacement for the large arrays of built structures (nodes, leaf blocks).
+// Blocks of 2 MiB and more are 2 MiB-aligned and marked for transparent huge pages (Linux madvise MADV_HUGEPAGE), so
+// that filling them takes one page fault per 2 MiB instead of per 4 KiB and traversal misses the TLB less; smaller
+// blocks and other systems use the ordinary allocator. The contents and behaviour of the containers are unchanged.
+#pragma once
+
+#include <cstddef>
+#include <cstdlib>
+#include <memory>
+#include <new>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace rayaccel {
+
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
+template <class T>
+struct HugePageAllocator {
+  using value_type = T;
+
+  HugePageAllocator() = default;
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) {}  // NOLINT: converting, as std::allocator
+
+  T* allocate(std::size_t n) {
+    if (n > std::size_t(-1) / sizeof(T)) throw std::bad_array_new_length();
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < kHugePageBytes) return std::allocator<T>().allocate(n);
+    const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+    void* p = std::aligned_alloc(kHugePageBytes, rounded);
+    if (!p) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: without huge pages the memory works the same
+#endif
+    return static_cast<T*>(p);
+  }
+
+  void deallocate(T* p, std::size_t n) {
+    if (n * sizeof(T) < kHugePageBytes) {
+      std::allocator<T>().deallocate(p, n);
+    } else {
+      std::free(p);
+    }
+  }
+
+  template <class U>
+  bool operator==(const HugePageAllocator<U>&) const {
+    return true;
+  }
+};
+
+}  // namespace rayaccel
