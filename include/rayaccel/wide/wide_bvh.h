@@ -26,6 +26,9 @@ struct WideBvhConfig {
   /// The binary tree that is collapsed: binned SAH with leaves of at most 4 triangles (one Triangle4 block). A
   /// primitive test costs 0.3 of a node visit here because four triangles are tested for the price of about one.
   BinnedSahConfig binary{.max_leaf_size = 4, .costs = {.traversal = 1.0f, .intersection = 0.3f}};
+  /// Triangle pre-splitting before the binary build (Karras & Aila 2013, see bvh/presplit.h): extra references as a
+  /// fraction of the triangle count, 0..4; 0 builds over one reference per triangle. Ignored for other primitives.
+  float presplit = 0.0f;
 };
 
 /// True when this CPU runs the AVX2 kernels.
@@ -36,7 +39,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   explicit WideBvh(WideBvhConfig config = {}) : config_(config) {}
 
   void build(const Scene& scene) override;
-  /// Builds from any binary builder's tree (without spatial splits) over the scene's primitives.
+  /// Builds from any binary builder's tree over the scene's primitives. A tree with spatial splits may reference a
+  /// primitive from several leaves (each with the box of its part); a primitive repeated within one leaf is kept once.
   void build_from(const Scene& scene, const BuildTree& tree);
   int width() const { return width_; }
   std::size_t memory_bytes() const override;
@@ -80,6 +84,10 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::vector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
   int depth_ = 0;
   std::uint32_t skipped_degenerate_ = 0;
+  bool spatial_splits_ = false;         ///< built from a tree with spatial splits: validate() allows repeats
+  std::uint32_t references_ = 0;        ///< references of the binary tree
+  std::uint32_t split_triangles_ = 0;   ///< triangles pre-split into several references
+  std::uint32_t dropped_repeats_ = 0;   ///< references dropped because their primitive was already in the leaf
 };
 
 template <bool AnyHit, class Stats>
