@@ -8,6 +8,8 @@
 #include <tbb/parallel_scan.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <functional>
 
@@ -45,9 +47,10 @@ class PlaneGrid {
       if (scale_[a] == 0.0) continue;
       const double u_lo = std::clamp((double(box.lo[a]) - lo_[a]) * scale_[a], 0.0, kCells);
       const double u_hi = std::clamp((double(box.hi[a]) - lo_[a]) * scale_[a], 0.0, kCells);
-      // Grid lines g with u_lo < g < u_hi: g in (floor(u_lo), ceil(u_hi) - 1].
-      const auto q_lo = static_cast<std::int64_t>(std::floor(u_lo));
-      const auto q_hi = static_cast<std::int64_t>(std::ceil(u_hi)) - 1;
+      // Grid lines g with u_lo < g < u_hi: g in (floor(u_lo), ceil(u_hi) - 1] (truncation is floor for u >= 0).
+      const auto q_lo = static_cast<std::int64_t>(u_lo);
+      auto q_hi = static_cast<std::int64_t>(u_hi);
+      if (static_cast<double>(q_hi) == u_hi) --q_hi;
       if (q_hi <= q_lo) continue;
       // The coarsest line in (q_lo, q_hi] is q_hi with the bits below their highest difference cleared.
       const int bit = 63 - __builtin_clzll(static_cast<std::uint64_t>(q_lo ^ q_hi));
@@ -67,6 +70,25 @@ class PlaneGrid {
   double cell_[3] = {0, 0, 0};
 };
 
+/// 2^-depth for every depth a GridPlane can have.
+double depth_weight(int depth) {
+  static const auto table = [] {
+    std::array<double, 3 * kLevels> t{};
+    for (int d = 0; d < 3 * kLevels; ++d) t[d] = std::ldexp(1.0, -d);
+    return t;
+  }();
+  return table[depth];
+}
+
+/// Cube root to better than 1e-9 relative (priorities need far less) without a library call: a first guess from the
+/// exponent bits divided by three, then Newton steps. x > 0 and finite.
+double fast_cbrt(double x) {
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  double y = std::bit_cast<double>(bits / 3 + 0x2A9F7893782DA1CEull);  // within ~10% of cbrt(x)
+  for (int i = 0; i < 3; ++i) y -= (y * y * y - x) / (3.0 * y * y);
+  return y;
+}
+
 double priority(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& grid, double exponent) {
   const GridPlane plane = grid.coarsest_crossing(box);
   if (plane.axis < 0) return 0.0;
@@ -77,7 +99,9 @@ double priority(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& 
   const double box_area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
   const double waste = box_area - ideal;
   if (!(waste > 0.0)) return 0.0;
-  return std::pow(std::ldexp(waste, -plane.depth), exponent);
+  const double weighted = waste * depth_weight(plane.depth);
+  if (!(weighted >= 0x1p-1000) || !std::isfinite(weighted)) return 0.0;
+  return exponent == 1.0 / 3.0 ? fast_cbrt(weighted) : std::pow(weighted, exponent);
 }
 
 /// Writes at most `pieces` boxes covering the part of triangle t inside `box` to out[count...]; returns the new count.
@@ -128,13 +152,15 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   if (budget == 0) return result;
   const PlaneGrid grid(scene.bounds());
 
-  // Priorities and their sum.
+  // Priorities and their sum. The exponent 1/3 (the default) is taken as exactly a cube root.
+  const double exponent =
+      config.priority_exponent == 1.0f / 3.0f ? 1.0 / 3.0 : static_cast<double>(config.priority_exponent);
   std::vector<double> prio(n);
   const double total = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, n), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          prio[i] = priority(scene.triangle(refs[i].prim_id), refs[i].bounds, grid, config.priority_exponent);
+          prio[i] = priority(scene.triangle(refs[i].prim_id), refs[i].bounds, grid, exponent);
           sum += prio[i];
         }
         return sum;
@@ -143,22 +169,30 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   if (!(total > 0.0) || !std::isfinite(total)) return result;
 
   // Largest beta whose extra pieces sum(floor(beta * p)) fit the budget: beta = budget / total always fits, and
-  // (budget + n) / total always reaches it, so bisect between the two.
+  // (budget + n) / total always reaches it, so bisect between the two. Only priorities with beta_hi * p >= 1 can
+  // get a piece, usually a small part of them: the bisection runs over those alone.
   auto extra_for = [](double beta, double p) { return static_cast<std::uint64_t>(std::floor(beta * p)); };
-  auto extra_total = [&](double beta) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, n), std::uint64_t{0},
-        [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t sum) {
-          for (std::size_t i = r.begin(); i != r.end(); ++i) sum += extra_for(beta, prio[i]);
-          return sum;
-        },
-        std::plus<>());
-  };
   double beta_lo = double(budget) / total, beta_hi = double(budget + n) / total;
-  while (beta_lo > 0.0 && extra_total(beta_lo) > budget) beta_lo *= 0.5;  // rounding in the sum; rarely taken
-  for (int step = 0; step < 16; ++step) {
+  std::vector<double> candidates;
+  for (const double p : prio) {
+    if (beta_hi * p >= 1.0) candidates.push_back(p);
+  }
+  auto extra_total = [&](double beta) {
+    std::uint64_t sum = 0;
+    for (const double p : candidates) sum += extra_for(beta, p);
+    return sum;
+  };
+  std::uint64_t extra_lo = extra_total(beta_lo);
+  while (beta_lo > 0.0 && extra_lo > budget) extra_lo = extra_total(beta_lo *= 0.5);  // rounding; rarely taken
+  for (int step = 0; step < 20 && extra_lo < budget; ++step) {
     const double mid = 0.5 * (beta_lo + beta_hi);
-    (extra_total(mid) <= budget ? beta_lo : beta_hi) = mid;
+    const std::uint64_t extra = extra_total(mid);
+    if (extra <= budget) {
+      beta_lo = mid;
+      extra_lo = extra;
+    } else {
+      beta_hi = mid;
+    }
   }
   const double beta = beta_lo;
 
