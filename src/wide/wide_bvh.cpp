@@ -292,8 +292,8 @@ std::vector<std::string> WideBvh::validate() const {
   return problems;
 }
 
-/// Default of the registry's presplit option (WideBvhConfig itself defaults to no pre-splitting).
-constexpr const char* kDefaultPresplit = "0";
+/// Default of the registry's presplit option: WideBvhConfig's default, written as the option string.
+constexpr const char* kDefaultPresplit = "0.1";
 
 void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
   const BinnedSahConfig defaults = WideBvhConfig{}.binary;
@@ -309,7 +309,7 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
          "triangle pre-splitting (Karras & Aila 2013): extra references as a fraction of the triangle count, 0..4; 0 "
          "turns it off",
          {}}},
-       {"bvh_wide:width=4", "bvh_wide:width=8", "bvh_wide:presplit=0.3"},
+       {"bvh_wide:width=4", "bvh_wide:width=8", "bvh_wide:presplit=0"},
        [](const Options& options) {
          WideBvhConfig config;
          const std::string& width = options.get("width");

@@ -14,6 +14,7 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/clip_polygon.h"
 #include "rayaccel/scene/builtin_scenes.h"
+#include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel {
 namespace {
@@ -179,7 +180,8 @@ TEST(PresplitWideBvh, ValidatesAndMatchesBruteForce) {
   for (const Scene& scene : scenes) {
     const std::vector<Ray> rays = bvh_test::random_rays(scene.bounds(), 3000, 17);
     const bvh_test::OracleAnswers oracle = bvh_test::oracle_answers(scene, rays);
-    for (const char* spec : {"bvh_wide:presplit=0.3", "bvh_wide:presplit=4,width=4", "bvh_wide:presplit=1,width=8"}) {
+    for (const char* spec : {"bvh_wide", "bvh_wide:presplit=0.3", "bvh_wide:presplit=4,width=4",
+                             "bvh_wide:presplit=1,width=8"}) {
       SCOPED_TRACE(scene.name() + " " + spec);
       auto accel = make_accelerator(spec);
       accel->build(scene);
@@ -199,6 +201,27 @@ TEST(PresplitWideBvh, ReportsReferenceCounts) {
   EXPECT_GT(stats.at("references"), scene.valid_count());
   EXPECT_GT(stats.at("presplit_triangles"), 0.0);
   EXPECT_TRUE(accel->validate().empty());
+}
+
+TEST(PresplitWideBvh, RegistryDefaultIsTheConfigDefault) {
+  const AcceleratorInfo& info = find_accelerator("bvh_wide");
+  const auto option = std::find_if(info.options.begin(), info.options.end(),
+                                   [](const OptionSpec& o) { return o.key == "presplit"; });
+  ASSERT_NE(option, info.options.end());
+  EXPECT_EQ(option->type, OptionType::real);
+  EXPECT_EQ(std::stof(option->default_value), wide::WideBvhConfig{}.presplit);
+  // The default splits; presplit=0 keeps one reference per triangle.
+  const Scene scene = diagonal_scene(400, 23);
+  for (const auto& [spec, split] : {std::pair{"bvh_wide", true}, std::pair{"bvh_wide:presplit=0", false}}) {
+    auto accel = make_accelerator(spec);
+    accel->build(scene);
+    for (const auto& s : accel->build_statistics()) {
+      if (s.name == "references") {
+        EXPECT_EQ(s.value > scene.valid_count(), split) << spec;
+      }
+    }
+    EXPECT_TRUE(accel->validate().empty()) << spec;
+  }
 }
 
 TEST(PresplitWideBvh, RejectsFractionsOutsideRange) {
