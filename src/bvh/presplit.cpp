@@ -155,9 +155,10 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   // Priorities and their sum. The exponent 1/3 (the default) is taken as exactly a cube root.
   const double exponent =
       config.priority_exponent == 1.0f / 3.0f ? 1.0 / 3.0 : static_cast<double>(config.priority_exponent);
+  // The deterministic reduction adds in the same order on every run, so beta and the tree do not vary.
   std::vector<double> prio(n);
-  const double total = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n), 0.0,
+  const double total = tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 1024), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           prio[i] = priority(scene.triangle(refs[i].prim_id), refs[i].bounds, grid, exponent);
