@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "rayaccel/bvh/presplit.h"
 #include "rayaccel/core/error.h"
 
 namespace rayaccel::wide {
@@ -60,14 +61,19 @@ bool cpu_has_avx2() {
 }
 
 std::size_t WideBvh::leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
-                              std::uint32_t& skipped) const {
+                              LeafIdCounts& dropped) const {
   const BuildNode& n = tree.nodes[binary_node];
   std::size_t count = 0;
-  skipped = 0;
+  dropped = {};
   for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
     const std::uint32_t id = tree.refs[i].prim_id;
     if (triangles_ && coincident_[id]) {
-      ++skipped;
+      ++dropped.coincident;
+      continue;
+    }
+    // Pieces of one split primitive in one leaf: test it once.
+    if (tree.spatial_splits && std::find(ids, ids + count, id) != ids + count) {
+      ++dropped.repeats;
       continue;
     }
     ids[count++] = id;
@@ -82,9 +88,10 @@ std::uint32_t WideBvh::emit_leaf(const BuildTree& tree, std::uint32_t binary_nod
                 std::to_string(4 * kMaxLeafBlocks) + " a wide leaf can take");
   }
   std::array<std::uint32_t, 4 * kMaxLeafBlocks> ids;
-  std::uint32_t skipped = 0;
-  const std::size_t count = leaf_ids(tree, binary_node, ids.data(), skipped);
-  skipped_degenerate_ += skipped;
+  LeafIdCounts dropped;
+  const std::size_t count = leaf_ids(tree, binary_node, ids.data(), dropped);
+  skipped_degenerate_ += dropped.coincident;
+  dropped_repeats_ += dropped.repeats;
   if (count == 0) return kEmptyChild;
   // Blocks are reserved here and filled later in parallel (fill_leaves): copying the triangles is the collapse's
   // main cost, random reads of the scene's vertices.
@@ -101,8 +108,8 @@ void WideBvh::fill_leaves(const BuildTree& tree) {
                       for (std::size_t k = range.begin(); k != range.end(); ++k) {
                         const PendingLeaf& leaf = pending_leaves_[k];
                         std::array<std::uint32_t, 4 * kMaxLeafBlocks> ids;
-                        std::uint32_t skipped = 0;
-                        const std::size_t count = leaf_ids(tree, leaf.binary_node, ids.data(), skipped);
+                        LeafIdCounts dropped;
+                        const std::size_t count = leaf_ids(tree, leaf.binary_node, ids.data(), dropped);
                         for (std::size_t i = 0; i < (count + 3) / 4 * 4; ++i) {
                           Triangle4& block = blocks_[leaf.first_block + i / 4];
                           const int lane = static_cast<int>(i % 4);
@@ -159,11 +166,24 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
   return lane == 0 ? kEmptyChild : index;
 }
 
-void WideBvh::build(const Scene& scene) { build_from(scene, build_binned_sah(scene.build_references(), config_.binary)); }
+void WideBvh::build(const Scene& scene) {
+  if (config_.presplit > 0.0f && scene.kind() == PrimitiveKind::triangles) {
+    PresplitResult presplit = presplit_references(scene, {.fraction = config_.presplit});
+    BuildTree tree = build_binned_sah(std::move(presplit.refs), config_.binary);
+    tree.spatial_splits = true;
+    build_from(scene, tree);
+    split_triangles_ = presplit.split_triangles;
+  } else {
+    build_from(scene, build_binned_sah(scene.build_references(), config_.binary));
+  }
+}
 
 void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
-  if (tree.spatial_splits) throw Error("the wide BVH takes trees without spatial splits");
   scene_ = &scene;
+  spatial_splits_ = tree.spatial_splits;
+  references_ = static_cast<std::uint32_t>(tree.refs.size());
+  split_triangles_ = 0;
+  dropped_repeats_ = 0;
   triangles_ = scene.kind() == PrimitiveKind::triangles;
   width_ = config_.width == 8 || (config_.width == 0 && cpu_has_avx2()) ? 8 : 4;
   if (width_ == 8 && !cpu_has_avx2()) width_ = 4;  // width=8 asked on a CPU without AVX2: same tree shape rules, SSE
@@ -222,7 +242,10 @@ std::vector<BuildStatistic> WideBvh::build_statistics() const {
           {"triangle4_blocks", double(blocks_.size())},
           {"block_fill", blocks_.empty() ? 0.0 : double(used_lanes) / (4.0 * blocks_.size())},
           {"depth", double(depth_)},
-          {"skipped_coincident_vertex_triangles", double(skipped_degenerate_)}};
+          {"skipped_coincident_vertex_triangles", double(skipped_degenerate_)},
+          {"references", double(references_)},
+          {"presplit_triangles", double(split_triangles_)},
+          {"leaf_repeats_dropped", double(dropped_repeats_)}};
 }
 
 template <int W>
@@ -254,9 +277,24 @@ void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>
             problems.push_back("leaf references primitive " + std::to_string(id) + " outside the scene");
             continue;
           }
-          if (seen[id]++) problems.push_back("primitive " + std::to_string(id) + " referenced twice");
-          if (!item.box.contains(scene_->primitive_bounds(id))) {
-            problems.push_back("primitive " + std::to_string(id) + " lies outside its leaf box");
+          if (spatial_splits_) {
+            // Spatial splits: a primitive may sit in several leaves, each holding a part of it, but once per leaf;
+            // the leaf box bounds only the parts, so it must meet the primitive's box rather than contain it.
+            const std::size_t before = std::size_t(b - first) * 4 + std::size_t(lane);  // lanes before this one
+            bool repeated = false;
+            for (std::size_t k = 0; k < before && !repeated; ++k) {
+              repeated = blocks_[first + k / 4].prim_id[k % 4] == id;
+            }
+            if (repeated) problems.push_back("primitive " + std::to_string(id) + " appears twice in one leaf");
+            seen[id] = 1;
+            if (!item.box.overlaps(scene_->primitive_bounds(id))) {
+              problems.push_back("primitive " + std::to_string(id) + " does not meet its leaf box");
+            }
+          } else {
+            if (seen[id]++) problems.push_back("primitive " + std::to_string(id) + " referenced twice");
+            if (!item.box.contains(scene_->primitive_bounds(id))) {
+              problems.push_back("primitive " + std::to_string(id) + " lies outside its leaf box");
+            }
           }
           if (triangles_) {
             const auto& tri = scene_->triangle(id);
@@ -305,6 +343,9 @@ std::vector<std::string> WideBvh::validate() const {
   return problems;
 }
 
+/// Default of the registry's presplit option: WideBvhConfig's default, written as the option string.
+constexpr const char* kDefaultPresplit = "0.1";
+
 void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
   const BinnedSahConfig defaults = WideBvhConfig{}.binary;
   registry.push_back(
@@ -314,8 +355,12 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
        {{"width", OptionType::choice, "auto", "children per node: 4 (SSE2), 8 (AVX2; 4 on CPUs without it), auto",
          {"auto", "4", "8"}},
         {"bins", OptionType::integer, std::to_string(defaults.bin_count), "SAH bins per axis of the binary build (2..64)",
+         {}},
+        {"presplit", OptionType::real, kDefaultPresplit,
+         "triangle pre-splitting (Karras & Aila 2013): extra references as a fraction of the triangle count, 0..4; 0 "
+         "turns it off",
          {}}},
-       {"bvh_wide:width=4", "bvh_wide:width=8"},
+       {"bvh_wide:width=4", "bvh_wide:width=8", "bvh_wide:presplit=0"},
        [](const Options& options) {
          WideBvhConfig config;
          const std::string& width = options.get("width");
@@ -323,6 +368,11 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
          const long long bins = options.get_int("bins");
          if (bins < 2 || bins > 64) throw Error("bvh_wide: bins must be in 2..64, got " + std::to_string(bins));
          config.binary.bin_count = static_cast<std::uint32_t>(bins);
+         const double presplit = options.get_real("presplit");
+         if (!(presplit >= 0.0 && presplit <= 4.0)) {
+           throw Error("bvh_wide: presplit must be in [0, 4], got " + options.get("presplit"));
+         }
+         config.presplit = static_cast<float>(presplit);
          return std::make_unique<WideBvh>(config);
        }});
 }

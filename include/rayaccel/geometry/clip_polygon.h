@@ -81,11 +81,22 @@ inline AABB clip_triangle_to_box(const Vec3& a, const Vec3& b, const Vec3& c, co
   buffer[0][2] = c;
   int n = 3, current = 0;
   for (int axis = 0; axis < 3 && n > 0; ++axis) {
-    n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.lo[axis], false, buffer[1 - current]);
-    current = 1 - current;
-    if (n == 0) break;
-    n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.hi[axis], true, buffer[1 - current]);
-    current = 1 - current;
+    // A plane with every vertex on its kept side leaves the polygon as it is: skip it (same result, less work).
+    // Clipping at lo moves no vertex above hi, so both tests can be made before either clip.
+    bool above_lo = true, below_hi = true;
+    for (int i = 0; i < n; ++i) {
+      above_lo &= buffer[current][i][axis] >= clip_box.lo[axis];
+      below_hi &= buffer[current][i][axis] <= clip_box.hi[axis];
+    }
+    if (!above_lo) {
+      n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.lo[axis], false, buffer[1 - current]);
+      current = 1 - current;
+      if (n == 0) break;
+    }
+    if (!below_hi) {
+      n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.hi[axis], true, buffer[1 - current]);
+      current = 1 - current;
+    }
   }
   AABB bounds;
   for (int i = 0; i < n; ++i) bounds.extend(buffer[current][i]);

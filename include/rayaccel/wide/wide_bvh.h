@@ -32,6 +32,11 @@ struct WideBvhConfig {
   /// blocks are full (fill 0.76 -> 0.9+) and there are fewer leaves and nodes.
   BinnedSahConfig binary{
       .max_leaf_size = 8, .costs = {.traversal = 1.0f, .intersection = 1.0f}, .bin_count = 16, .block_size = 4};
+  /// Triangle pre-splitting before the binary build (Karras & Aila 2013, see bvh/presplit.h): extra references as a
+  /// fraction of the triangle count, 0..4; 0 builds over one reference per triangle. Ignored for other primitives.
+  /// 0.1 takes most of the gain on architectural scenes (Crytek Sponza: half the primitive tests per ray) for about
+  /// a third more build time; larger fractions add build time and memory for little more (see BENCHMARKS.md).
+  float presplit = 0.1f;
 };
 
 template <int W>
@@ -45,7 +50,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   explicit WideBvh(WideBvhConfig config = {}) : config_(config) {}
 
   void build(const Scene& scene) override;
-  /// Builds from any binary builder's tree (without spatial splits) over the scene's primitives.
+  /// Builds from any binary builder's tree over the scene's primitives. A tree with spatial splits may reference a
+  /// primitive from several leaves (each with the box of its part); a primitive repeated within one leaf is kept once.
   void build_from(const Scene& scene, const BuildTree& tree);
   int width() const { return width_; }
   std::size_t memory_bytes() const override;
@@ -65,9 +71,13 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <int W>
   std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, NodeArray<W>& nodes);
   std::uint32_t emit_leaf(const BuildTree& tree, std::uint32_t binary_node);
-  /// The primitives a binary leaf contributes (coincident-vertex triangles left out); `skipped` counts those.
+  struct LeafIdCounts {
+    std::uint32_t coincident = 0;  ///< triangles with coincident vertices (never hit) left out
+    std::uint32_t repeats = 0;     ///< further pieces of a pre-split primitive already in the leaf
+  };
+  /// The primitives a binary leaf contributes, each once; `dropped` counts what was left out.
   std::size_t leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
-                       std::uint32_t& skipped) const;
+                       LeafIdCounts& dropped) const;
   void fill_leaves(const BuildTree& tree);
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
@@ -99,6 +109,10 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::vector<std::uint8_t> coincident_;     ///< build-time only: triangles with coincident vertices (never hit)
   int depth_ = 0;
   std::uint32_t skipped_degenerate_ = 0;
+  bool spatial_splits_ = false;         ///< built from a tree with spatial splits: validate() allows repeats
+  std::uint32_t references_ = 0;        ///< references of the binary tree
+  std::uint32_t split_triangles_ = 0;   ///< triangles pre-split into several references
+  std::uint32_t dropped_repeats_ = 0;   ///< references dropped because their primitive was already in the leaf
 };
 
 /// Tests a leaf's blocks: two at a time when Lanes is eight wide (AVX2), one at a time with SSE otherwise.

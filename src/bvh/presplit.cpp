@@ -1,0 +1,242 @@
+// Triangle pre-splitting: priorities from box waste and grid-plane depth, the budget shared by bisection on the
+// scale factor, and recursive splitting at grid planes with conservative clipping (see presplit.h).
+#include "rayaccel/bvh/presplit.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_scan.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <functional>
+
+#include "rayaccel/geometry/clip_polygon.h"
+
+namespace rayaccel {
+
+namespace {
+
+/// Levels of the plane hierarchy per axis: finer planes than 2^-24 of the scene extent are below float precision.
+constexpr int kLevels = 24;
+constexpr double kCells = double(1 << kLevels);
+
+struct GridPlane {
+  int axis = -1;  ///< -1: no grid plane crosses the box
+  int depth = 0;  ///< 3 * level + axis (Morton order: x planes first within a level)
+  float position = 0.0f;
+};
+
+/// The power-of-two grid over the scene box.
+class PlaneGrid {
+ public:
+  explicit PlaneGrid(const AABB& scene_box) : lo_(scene_box.lo) {
+    for (int a = 0; a < 3; ++a) {
+      const double extent = double(scene_box.hi[a]) - double(scene_box.lo[a]);
+      scale_[a] = extent > 0.0 ? kCells / extent : 0.0;
+      cell_[a] = extent > 0.0 ? extent / kCells : 0.0;
+    }
+  }
+
+  /// The plane of smallest depth that lies strictly inside `box` (both sides keep a part of positive width).
+  GridPlane coarsest_crossing(const AABB& box) const {
+    GridPlane best;
+    for (int a = 0; a < 3; ++a) {
+      if (scale_[a] == 0.0) continue;
+      const double u_lo = std::clamp((double(box.lo[a]) - lo_[a]) * scale_[a], 0.0, kCells);
+      const double u_hi = std::clamp((double(box.hi[a]) - lo_[a]) * scale_[a], 0.0, kCells);
+      // Grid lines g with u_lo < g < u_hi: g in (floor(u_lo), ceil(u_hi) - 1] (truncation is floor for u >= 0).
+      const auto q_lo = static_cast<std::int64_t>(u_lo);
+      auto q_hi = static_cast<std::int64_t>(u_hi);
+      if (static_cast<double>(q_hi) == u_hi) --q_hi;
+      if (q_hi <= q_lo) continue;
+      // The coarsest line in (q_lo, q_hi] is q_hi with the bits below their highest difference cleared.
+      const int bit = 63 - __builtin_clzll(static_cast<std::uint64_t>(q_lo ^ q_hi));
+      const std::int64_t line = (q_hi >> bit) << bit;
+      const int depth = 3 * (kLevels - 1 - bit) + a;
+      if (best.axis >= 0 && depth >= best.depth) continue;
+      const auto position = static_cast<float>(lo_[a] + double(line) * cell_[a]);
+      if (!(position > box.lo[a] && position < box.hi[a])) continue;  // lost to rounding: not a useful cut
+      best = {a, depth, position};
+    }
+    return best;
+  }
+
+ private:
+  Vec3 lo_;
+  double scale_[3] = {0, 0, 0};
+  double cell_[3] = {0, 0, 0};
+};
+
+/// 2^-depth for every depth a GridPlane can have.
+double depth_weight(int depth) {
+  static const auto table = [] {
+    std::array<double, 3 * kLevels> t{};
+    for (int d = 0; d < 3 * kLevels; ++d) t[d] = std::ldexp(1.0, -d);
+    return t;
+  }();
+  return table[depth];
+}
+
+/// Cube root to better than 1e-9 relative (priorities need far less) without a library call: a first guess from the
+/// exponent bits divided by three, then Newton steps. x > 0 and finite.
+double fast_cbrt(double x) {
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  double y = std::bit_cast<double>(bits / 3 + 0x2A9F7893782DA1CEull);  // within ~10% of cbrt(x)
+  for (int i = 0; i < 3; ++i) y -= (y * y * y - x) / (3.0 * y * y);
+  return y;
+}
+
+double priority(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& grid, double exponent) {
+  const GridPlane plane = grid.coarsest_crossing(box);
+  if (plane.axis < 0) return 0.0;
+  const double ux = double(t[1].x) - t[0].x, uy = double(t[1].y) - t[0].y, uz = double(t[1].z) - t[0].z;
+  const double vx = double(t[2].x) - t[0].x, vy = double(t[2].y) - t[0].y, vz = double(t[2].z) - t[0].z;
+  const double ideal = std::fabs(uy * vz - uz * vy) + std::fabs(uz * vx - ux * vz) + std::fabs(ux * vy - uy * vx);
+  const Vec3 e = box.extent();
+  const double box_area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
+  const double waste = box_area - ideal;
+  if (!(waste > 0.0)) return 0.0;
+  const double weighted = waste * depth_weight(plane.depth);
+  if (!(weighted >= 0x1p-1000) || !std::isfinite(weighted)) return 0.0;
+  return exponent == 1.0 / 3.0 ? fast_cbrt(weighted) : std::pow(weighted, exponent);
+}
+
+/// Writes at most `pieces` boxes covering the part of triangle t inside `box` to out[count...]; returns the new count.
+/// `box` must be the (conservative) bounds of that part.
+std::uint32_t split_box(const std::array<Vec3, 3>& t, AABB box, std::uint32_t pieces, const PlaneGrid& grid,
+                        PrimRef* out, std::uint32_t count, std::uint32_t prim_id) {
+  for (;;) {
+    const GridPlane plane = pieces > 1 ? grid.coarsest_crossing(box) : GridPlane{};
+    if (plane.axis < 0) break;
+    AABB below = box, above = box;
+    below.hi[plane.axis] = plane.position;
+    above.lo[plane.axis] = plane.position;
+    // A part that is flat on the plane itself holds only points on the plane, which the other side's part (closed
+    // at the plane) holds too: treat it as empty rather than spend a reference on it.
+    auto part = [&](const AABB& half) {
+      const AABB b = clip_triangle_to_box(t[0], t[1], t[2], half);
+      const bool on_plane = b.lo[plane.axis] == plane.position && b.hi[plane.axis] == plane.position;
+      return on_plane ? AABB{} : b;
+    };
+    const AABB left = part(below);
+    const AABB right = part(above);
+    if (left.is_empty() == right.is_empty()) {
+      if (left.is_empty()) break;  // cannot happen for a box around part of the triangle; keep the box whole
+      const double wl = left.extent()[left.largest_axis()], wr = right.extent()[right.largest_axis()];
+      const double share = wl + wr > 0.0 ? wl / (wl + wr) : 0.5;
+      const auto left_pieces = static_cast<std::uint32_t>(
+          std::clamp(std::round(share * pieces), 1.0, static_cast<double>(pieces - 1)));
+      count = split_box(t, left, left_pieces, grid, out, count, prim_id);
+      return split_box(t, right, pieces - left_pieces, grid, out, count, prim_id);
+    }
+    // The part lies on one side of the plane (its box was conservative): go on with the smaller box and the same
+    // piece count. The box shrinks strictly on plane.axis, so this ends after at most kLevels steps per axis.
+    box = left.is_empty() ? right : left;
+  }
+  out[count] = {box, prim_id};
+  return count + 1;
+}
+
+}  // namespace
+
+PresplitResult presplit_references(const Scene& scene, const PresplitConfig& config) {
+  PresplitResult result;
+  result.refs = scene.build_references();
+  std::vector<PrimRef>& refs = result.refs;
+  const std::size_t n = refs.size();
+  if (scene.kind() != PrimitiveKind::triangles || !(config.fraction > 0.0f) || n == 0) return result;
+  const auto budget = static_cast<std::uint64_t>(std::floor(double(config.fraction) * double(n)));
+  if (budget == 0) return result;
+  const PlaneGrid grid(scene.bounds());
+
+  // Priorities and their sum. The exponent 1/3 (the default) is taken as exactly a cube root.
+  const double exponent =
+      config.priority_exponent == 1.0f / 3.0f ? 1.0 / 3.0 : static_cast<double>(config.priority_exponent);
+  // The deterministic reduction adds in the same order on every run, so beta and the tree do not vary.
+  std::vector<double> prio(n);
+  const double total = tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 1024), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double sum) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          prio[i] = priority(scene.triangle(refs[i].prim_id), refs[i].bounds, grid, exponent);
+          sum += prio[i];
+        }
+        return sum;
+      },
+      std::plus<>());
+  if (!(total > 0.0) || !std::isfinite(total)) return result;
+
+  // Largest beta whose extra pieces sum(floor(beta * p)) fit the budget: beta = budget / total always fits, and
+  // (budget + n) / total always reaches it, so bisect between the two. Only priorities with beta_hi * p >= 1 can
+  // get a piece, usually a small part of them: the bisection runs over those alone.
+  auto extra_for = [](double beta, double p) { return static_cast<std::uint64_t>(std::floor(beta * p)); };
+  double beta_lo = double(budget) / total, beta_hi = double(budget + n) / total;
+  std::vector<double> candidates;
+  for (const double p : prio) {
+    if (beta_hi * p >= 1.0) candidates.push_back(p);
+  }
+  auto extra_total = [&](double beta) {
+    std::uint64_t sum = 0;
+    for (const double p : candidates) sum += extra_for(beta, p);
+    return sum;
+  };
+  std::uint64_t extra_lo = extra_total(beta_lo);
+  while (beta_lo > 0.0 && extra_lo > budget) extra_lo = extra_total(beta_lo *= 0.5);  // rounding; rarely taken
+  for (int step = 0; step < 20 && extra_lo < budget; ++step) {
+    const double mid = 0.5 * (beta_lo + beta_hi);
+    const std::uint64_t extra = extra_total(mid);
+    if (extra <= budget) {
+      beta_lo = mid;
+      extra_lo = extra;
+    } else {
+      beta_hi = mid;
+    }
+  }
+  const double beta = beta_lo;
+
+  // First output slot of each triangle: exclusive prefix sum of its planned piece count.
+  std::vector<std::uint64_t> first(n + 1, 0);
+  tbb::parallel_scan(
+      tbb::blocked_range<std::size_t>(0, n), std::uint64_t{0},
+      [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t sum, bool is_final) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          if (is_final) first[i] = sum;
+          sum += 1 + extra_for(beta, prio[i]);
+        }
+        if (is_final && r.end() == n) first[n] = sum;
+        return sum;
+      },
+      std::plus<>());
+
+  // Split; a triangle may make fewer pieces than planned, its unused slots are marked with an empty box.
+  std::vector<PrimRef> pieces(first[n]);
+  std::vector<std::uint32_t> made(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const auto planned = static_cast<std::uint32_t>(first[i + 1] - first[i]);
+      PrimRef* out = pieces.data() + first[i];
+      if (planned == 1) {
+        out[0] = refs[i];
+        made[i] = 1;
+        continue;
+      }
+      made[i] = split_box(scene.triangle(refs[i].prim_id), refs[i].bounds, planned, grid, out, 0, refs[i].prim_id);
+      for (std::uint32_t k = made[i]; k < planned; ++k) out[k] = {AABB::empty(), refs[i].prim_id};
+    }
+  });
+  result.split_triangles = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n), std::uint32_t{0},
+      [&](const tbb::blocked_range<std::size_t>& r, std::uint32_t sum) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) sum += made[i] > 1 ? 1 : 0;
+        return sum;
+      },
+      std::plus<>());
+  std::erase_if(pieces, [](const PrimRef& ref) { return ref.bounds.is_empty(); });
+  refs = std::move(pieces);
+  return result;
+}
+
+}  // namespace rayaccel
