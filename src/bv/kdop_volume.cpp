@@ -11,7 +11,7 @@
 #include <span>
 
 #include "fit_support.h"
-#include "rayaccel/geometry/float_rounding.h"
+#include "rayaccel/core/float_rounding.h"
 
 namespace rayaccel {
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fit_support.h"
-#include "rayaccel/geometry/float_rounding.h"
+#include "rayaccel/core/float_rounding.h"
 
 namespace rayaccel {
 namespace {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/ray.h"
 
 namespace rayaccel {
@@ -26,7 +27,7 @@ struct Hit {
   /// two hits at the same t the first found is kept.
   static Hit begin(const PreparedRay& ray) {
     Hit h;
-    h.t = std::nextafter(ray.t_max, std::numeric_limits<float>::infinity());
+    h.t = next_float_up(ray.t_max);  // as std::nextafter(t_max, +inf), without the libm call per ray
     return h;
   }
   /// Turns a tracing record into the published form: misses get t = +inf and u = v = 0.

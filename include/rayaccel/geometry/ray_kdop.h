@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "rayaccel/core/ray.h"
-#include "rayaccel/geometry/float_rounding.h"
+#include "rayaccel/core/float_rounding.h"
 #include "rayaccel/geometry/slab_interval.h"
 
 namespace rayaccel {
