@@ -100,14 +100,16 @@ void Bvh<BV>::load(const std::filesystem::path& path, const Scene& scene) {
   depth_ = static_cast<int>(h.depth);
   spatial_splits_ = (h.flags & 1u) != 0;
   const std::byte* p = bytes.data() + sizeof h;
-  nodes_.resize(h.node_count);
-  std::memcpy(nodes_.data(), p, nodes_.size() * sizeof(Node));
-  p += nodes_.size() * sizeof(Node);
-  prim_ids_.resize(h.slot_count);
-  std::memcpy(prim_ids_.data(), p, prim_ids_.size() * sizeof(std::uint32_t));
-  p += prim_ids_.size() * sizeof(std::uint32_t);
-  part_bounds_.resize(h.part_count);
-  std::memcpy(part_bounds_.data(), p, part_bounds_.size() * sizeof(AABB));
+  // Reads one stored array; an empty one is skipped (memcpy's pointers must not be null, even for 0 bytes).
+  auto read_array = [&p](auto& array, std::size_t count) {
+    array.resize(count);
+    if (count == 0) return;
+    std::memcpy(array.data(), p, count * sizeof(array[0]));
+    p += count * sizeof(array[0]);
+  };
+  read_array(nodes_, h.node_count);
+  read_array(prim_ids_, h.slot_count);
+  read_array(part_bounds_, h.part_count);
   triangles_.clear();
   const std::vector<std::string> problems = validate();
   if (!problems.empty()) {
