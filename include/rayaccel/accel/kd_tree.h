@@ -165,7 +165,7 @@ void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
   float t0 = ray.t_min, t1 = ray.t_max;
   if (data_.nodes.empty() || !clip_ray_to_box(ray, data_.bounds, t0, t1)) return;
   // clip_ray_to_box widens only the far end; widen the near end too so no cell near the entry face is skipped.
-  t0 = std::fmax(ray.t_min, t0 * (t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp));
+  t0 = fmax_inline(ray.t_min, t0 * (t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp));
   RayMailbox<Mailbox> mailbox;
   wide::BlockMailbox block_mailbox;
   const wide::TrianglePacket<wide::Sse4> packet4(ray);
