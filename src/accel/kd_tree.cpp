@@ -119,9 +119,18 @@ std::vector<BuildStatistic> KdTree::build_statistics() const {
     }
     return true;
   });
-  return split_tree_statistics({data_.nodes.size(), leaves, empty_leaves, max_depth, data_.prim_indices.size(),
-                                sah, build_ms_},
-                               scene_);
+  std::vector<BuildStatistic> stats = split_tree_statistics(
+      {data_.nodes.size(), leaves, empty_leaves, max_depth, data_.prim_indices.size(), sah, build_ms_}, scene_);
+  if (!blocks_.empty()) {
+    std::size_t used = 0;
+    for (const auto& b : blocks_) {
+      for (std::uint32_t id : b.prim_id) used += id != kInvalidPrimId ? 1 : 0;
+    }
+    stats.push_back({"triangle4_blocks", double(blocks_.size())});
+    stats.push_back({"block_fill", double(used) / (4.0 * double(blocks_.size()))});
+    stats.push_back({"skipped_coincident_vertex_triangles", double(skipped_coincident_)});
+  }
+  return stats;
 }
 
 std::vector<std::string> KdTree::validate() const {

@@ -36,7 +36,8 @@ TEST(UniformGrid, ResolutionFollowsExtentAndDensity) {
 TEST(UniformGrid, MatchesBruteForceOnSoupForEveryVariant) {
   const Scene scene = Scene::from_mesh(testing::random_soup(3000, 7));
   const auto rays = testing::random_rays(3000, 11, scene.bounds());
-  for (const char* spec : {"grid", "grid:exact=false", "grid:mailbox=false", "grid:density=0.5"}) {
+  for (const char* spec : {"grid", "grid:exact=false", "grid:mailbox=true", "grid:blocks=false",
+                           "grid:blocks=false,mailbox=true", "grid:density=0.5", "grid:density=3"}) {
     auto grid = make_accelerator(spec);
     grid->build(scene);
     expect_valid(*grid);
