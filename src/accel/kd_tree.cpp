@@ -1,5 +1,5 @@
-// kd-tree: build dispatch, build statistics, validate() and registration (traversal is in kd_tree.h, builders in
-// kd_tree_build.cpp).
+// kd-tree: build dispatch, the Triangle4 copy of the leaves, build statistics, validate() and registration (traversal
+// is in kd_tree.h, builders in kd_tree_build.cpp).
 #include "rayaccel/accel/kd_tree.h"
 #include "rayaccel/accel/split_tree_report.h"
 
@@ -10,6 +10,7 @@
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/clip_polygon.h"
+#include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel {
 
@@ -73,9 +74,31 @@ void KdTree::build(const Scene& scene) {
   scene_ = &scene;
   const std::vector<PrimRef> refs = scene.build_references();
   const ClipToCell clip = scene_clipper(scene);
-  data_ = options_.builder == KdTreeOptions::Builder::sah ? build_kd_tree_sah(refs, options_, clip)
-                                                          : build_kd_tree_median(refs, options_, clip);
+  KdTreeOptions o = options_;
+  if (scene.kind() != PrimitiveKind::triangles) o.block_size = 1;  // tested one by one
+  data_ = o.builder == KdTreeOptions::Builder::sah ? build_kd_tree_sah(refs, o, clip)
+                                                   : build_kd_tree_median(refs, o, clip);
+  build_blocks(scene);
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+void KdTree::build_blocks(const Scene& scene) {
+  block_first_.clear();
+  blocks_.clear();
+  skipped_coincident_ = 0;
+  avx2_ = false;
+  if (scene.kind() != PrimitiveKind::triangles || data_.nodes.empty()) return;
+  block_first_.resize(data_.nodes.size() + 1);
+  for (std::size_t i = 0; i < data_.nodes.size(); ++i) {
+    block_first_[i] = static_cast<std::uint32_t>(blocks_.size());
+    const KdNode& n = data_.nodes[i];
+    if (!n.is_leaf()) continue;
+    skipped_coincident_ += wide::pack_triangle_blocks(
+        scene, std::span<const std::uint32_t>(data_.prim_indices.data() + n.prim_offset, n.prim_count()), blocks_);
+  }
+  block_first_.back() = static_cast<std::uint32_t>(blocks_.size());
+  blocks_.shrink_to_fit();
+  avx2_ = wide::cpu_has_avx2();
 }
 
 std::vector<BuildStatistic> KdTree::build_statistics() const {
@@ -90,15 +113,24 @@ std::vector<BuildStatistic> KdTree::build_statistics() const {
     if (n.is_leaf()) {
       ++leaves;
       empty_leaves += n.prim_count() == 0 ? 1 : 0;
-      sah += p * options_.intersection_cost * n.prim_count();
+      sah += p * kd_leaf_cost(blocks_.empty() ? KdTreeOptions{.block_size = 1} : options_, n.prim_count());
     } else {
       sah += p * options_.traversal_cost;
     }
     return true;
   });
-  return split_tree_statistics({data_.nodes.size(), leaves, empty_leaves, max_depth, data_.prim_indices.size(),
-                                sah, build_ms_},
-                               scene_);
+  std::vector<BuildStatistic> stats = split_tree_statistics(
+      {data_.nodes.size(), leaves, empty_leaves, max_depth, data_.prim_indices.size(), sah, build_ms_}, scene_);
+  if (!blocks_.empty()) {
+    std::size_t used = 0;
+    for (const auto& b : blocks_) {
+      for (std::uint32_t id : b.prim_id) used += id != kInvalidPrimId ? 1 : 0;
+    }
+    stats.push_back({"triangle4_blocks", double(blocks_.size())});
+    stats.push_back({"block_fill", double(used) / (4.0 * double(blocks_.size()))});
+    stats.push_back({"skipped_coincident_vertex_triangles", double(skipped_coincident_)});
+  }
+  return stats;
 }
 
 std::vector<std::string> KdTree::validate() const {
@@ -142,7 +174,44 @@ std::vector<std::string> KdTree::validate() const {
     return true;
   });
   report_unreached(reached, referenced, *scene_, report);
+  if (!block_first_.empty()) validate_blocks(report);
   return report.problems;
+}
+
+void KdTree::validate_blocks(ProblemList& report) const {
+  if (block_first_.size() != data_.nodes.size() + 1 || block_first_.back() != blocks_.size()) {
+    report("Triangle4 block table does not match the nodes");
+    return;
+  }
+  for (std::size_t i = 0; i < data_.nodes.size(); ++i) {
+    const KdNode& n = data_.nodes[i];
+    const std::uint32_t first = block_first_[i], last = block_first_[i + 1];
+    if (last < first || (!n.is_leaf() && last != first)) {
+      report("node " + std::to_string(i) + ": bad Triangle4 block range");
+      return;
+    }
+    if (!n.is_leaf()) continue;
+    // The blocks must hold the leaf's references in order, less those with coincident vertices, copied exactly.
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t k = 0; k < n.prim_count(); ++k) {
+      const std::size_t at = std::size_t(n.prim_offset) + k;
+      if (at >= data_.prim_indices.size()) break;
+      const std::uint32_t id = data_.prim_indices[at];
+      if (id < scene_->primitive_count() && !wide::coincident_vertices(scene_->triangle(id))) expected.push_back(id);
+    }
+    std::size_t k = 0;
+    bool ok = last - first == (expected.size() + 3) / 4;
+    wide::for_each_block_id(blocks_.data() + first, last - first, [&](const wide::Triangle4& b, int lane) {
+      if (!ok) return;
+      const std::uint32_t id = b.prim_id[lane];
+      if (k >= expected.size() || expected[k++] != id) { ok = false; return; }
+      const auto& tri = scene_->triangle(id);
+      for (int v = 0; v < 3; ++v) {
+        for (int a = 0; a < 3; ++a) ok = ok && b.vertex[v][a][lane] == tri[v][a];
+      }
+    });
+    if (!ok || k != expected.size()) report("node " + std::to_string(i) + ": Triangle4 blocks differ from the leaf");
+  }
 }
 
 namespace {
@@ -169,6 +238,9 @@ KdTreeOptions parse_options(const Options& o) {
     throw Error("kdtree: empty_bonus=" + o.get("empty_bonus") + " is outside [0, 1)");
   }
   k.mailbox = o.get_bool("mailbox");
+  const long long block = o.get_int("block_size");
+  if (block < 1 || block > 64) throw Error("kdtree: block_size=" + o.get("block_size") + " is outside [1, 64]");
+  k.block_size = static_cast<int>(block);
   return k;
 }
 
@@ -183,8 +255,10 @@ void register_kd_tree(std::vector<AcceleratorInfo>& registry) {
         {"max_depth", OptionType::integer, "0", "deepest leaf; 0 = round(8 + 1.3 log2 n)", {}},
         {"leaf_size", OptionType::integer, "2", "median builder: largest node made a leaf", {}},
         {"traversal_cost", OptionType::real, "15", "SAH cost of one traversal step (K_T)", {}},
-        {"intersection_cost", OptionType::real, "20", "SAH cost of one primitive test (K_I)", {}},
+        {"intersection_cost", OptionType::real, "7.5", "SAH cost of one primitive test or Triangle4 block (K_I)", {}},
         {"empty_bonus", OptionType::real, "0.2", "SAH: cost fraction saved by cutting off an empty cell", {}},
+        {"block_size", OptionType::integer, "4",
+         "SAH: K_I per started block of this many triangles (leaves are Triangle4 blocks); 1 = per triangle", {}},
         {"mailbox", OptionType::boolean, "false", "skip primitives the ray already tested (8-entry mailbox)", {}}},
        {"kdtree:builder=median", "kdtree:builder=sah", "kdtree:builder=sah,mailbox=true"},
        [](const Options& o) { return std::make_unique<KdTree>(parse_options(o)); }});

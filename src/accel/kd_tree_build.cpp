@@ -1,6 +1,7 @@
 // kd-tree builders: the median split (axes cycling by depth) and the O(N log N) SAH build of Wald & Havran 2006
 // ("On building fast kd-trees for ray tracing, and on doing that in O(N log N)"): one sorted event list per node,
-// split and merged (never re-sorted) on the way down, with perfect splits from clipped primitive bounds.
+// split and merged (never re-sorted) on the way down, with perfect splits from clipped primitive bounds. The SAH
+// charges K_I per started block of options.block_size references (Triangle4 leaves: 4).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -139,7 +140,7 @@ class SahBuilder {
   void build(KdTreeData& out, std::vector<Event> events, std::size_t n, const AABB& cell, int depth) {
     const std::uint32_t node = reserve_node(out);
     const SplitChoice choice = find_split(events, n, cell);
-    const double leaf_cost = double(options_.intersection_cost) * double(n);
+    const double leaf_cost = kd_leaf_cost(options_, n);
     if (depth >= max_depth_ || n == 0 || choice.axis < 0 || !(choice.cost < leaf_cost)) {
       std::vector<std::uint32_t> prims;
       prims.reserve(n);
@@ -171,7 +172,7 @@ class SahBuilder {
     const double p_above = child_cell(cell, axis, position, true).surface_area() * inv_area;
     auto cost = [&](std::size_t nb, std::size_t na) {
       const double bonus = (nb == 0 || na == 0) ? 1.0 - options_.empty_bonus : 1.0;
-      return bonus * (options_.traversal_cost + options_.intersection_cost * (p_below * nb + p_above * na));
+      return bonus * (options_.traversal_cost + p_below * kd_leaf_cost(options_, nb) + p_above * kd_leaf_cost(options_, na));
     };
     const double planar_below = cost(n_below + n_planar, n_above);
     const double planar_above = cost(n_below, n_above + n_planar);

@@ -1,10 +1,12 @@
-// Uniform grid: build over the padded scene box, validation, statistics and registration (see uniform_grid.h).
+// Uniform grid: build over the padded scene box, the Triangle4 copy of the cells, validation, statistics and
+// registration (see uniform_grid.h).
 #include "rayaccel/accel/uniform_grid.h"
 
 #include <cmath>
 #include <memory>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel {
 
@@ -32,6 +34,13 @@ void UniformGrid::build(const Scene& scene) {
   prim_count_ = refs.size();
   exact_used_ = options_.exact && scene.kind() == PrimitiveKind::triangles;
   lists_ = {};
+  block_first_ = {};
+  blocks_ = {};
+  occupied_ = {};
+  skipped_coincident_ = 0;
+  references_ = 0;
+  avx2_ = false;
+  empty_ = refs.empty();
   if (refs.empty()) {
     frame_ = GridFrame::make(AABB({0, 0, 0}, {1, 1, 1}), {1, 1, 1});
     lists_.offsets.assign(2, 0);
@@ -43,35 +52,113 @@ void UniformGrid::build(const Scene& scene) {
                                                    box));
   pad_ = cell_padding(box);
   lists_ = bin_primitives(scene, refs, frame_, pad_, exact_used_);
+  references_ = lists_.ids.size();
+  const std::uint32_t cells = frame_.cell_count();
+  occupied_.assign((std::size_t(cells) + 63) / 64, 0);
+  for (std::uint32_t c = 0; c < cells; ++c) {
+    if (lists_.offsets[c] != lists_.offsets[c + 1]) occupied_[c >> 6] |= std::uint64_t(1) << (c & 63);
+  }
+  if (!options_.blocks || scene.kind() != PrimitiveKind::triangles) return;
+  // Each cell's list becomes a run of Triangle4 blocks; the id lists are dropped (validate() reads the blocks back).
+  block_first_.resize(std::size_t(cells) + 1);
+  for (std::uint32_t c = 0; c < cells; ++c) {
+    block_first_[c] = static_cast<std::uint32_t>(blocks_.size());
+    const std::uint32_t first = lists_.offsets[c], last = lists_.offsets[c + 1];
+    skipped_coincident_ += wide::pack_triangle_blocks(
+        scene, std::span<const std::uint32_t>(lists_.ids.data() + first, last - first), blocks_);
+    if (block_first_[c] == blocks_.size()) occupied_[c >> 6] &= ~(std::uint64_t(1) << (c & 63));
+  }
+  block_first_.back() = static_cast<std::uint32_t>(blocks_.size());
+  blocks_.shrink_to_fit();
+  lists_ = {};
+  avx2_ = wide::cpu_has_avx2();
+}
+
+CellLists UniformGrid::cell_lists() const {
+  if (block_first_.empty()) return lists_;
+  CellLists out;
+  out.offsets.reserve(block_first_.size());
+  for (std::size_t c = 0; c + 1 < block_first_.size(); ++c) {
+    out.offsets.push_back(static_cast<std::uint32_t>(out.ids.size()));
+    wide::for_each_block_id(blocks_.data() + block_first_[c], block_first_[c + 1] - block_first_[c],
+                            [&](const wide::Triangle4& b, int lane) { out.ids.push_back(b.prim_id[lane]); });
+  }
+  out.offsets.push_back(static_cast<std::uint32_t>(out.ids.size()));
+  return out;
 }
 
 std::size_t UniformGrid::memory_bytes() const {
   return lists_.offsets.capacity() * sizeof(std::uint32_t) + lists_.ids.capacity() * sizeof(std::uint32_t) +
-         sizeof(*this);
+         block_first_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(wide::Triangle4) +
+         occupied_.capacity() * sizeof(std::uint64_t) + sizeof(*this);
 }
 
 std::vector<BuildStatistic> UniformGrid::build_statistics() const {
   std::size_t empty = 0;
-  for (std::size_t c = 0; c + 1 < lists_.offsets.size(); ++c) empty += lists_.offsets[c] == lists_.offsets[c + 1];
+  for (std::uint32_t c = 0; c < frame_.cell_count(); ++c) empty += empty_ || !((occupied_[c >> 6] >> (c & 63)) & 1u);
   const double cells = frame_.cell_count();
-  return {{"resolution_x", double(frame_.res[0])},
-          {"resolution_y", double(frame_.res[1])},
-          {"resolution_z", double(frame_.res[2])},
-          {"cells", cells},
-          {"empty_cell_fraction", cells > 0 ? double(empty) / cells : 0.0},
-          {"references", double(lists_.ids.size())},
-          {"references_per_primitive", prim_count_ ? double(lists_.ids.size()) / double(prim_count_) : 0.0}};
+  std::vector<BuildStatistic> stats = {
+      {"resolution_x", double(frame_.res[0])},
+      {"resolution_y", double(frame_.res[1])},
+      {"resolution_z", double(frame_.res[2])},
+      {"cells", cells},
+      {"empty_cell_fraction", cells > 0 ? double(empty) / cells : 0.0},
+      {"references", double(references_)},
+      {"references_per_primitive", prim_count_ ? double(references_) / double(prim_count_) : 0.0}};
+  if (!block_first_.empty()) {
+    std::size_t used = 0;
+    for (const auto& b : blocks_) {
+      for (std::uint32_t id : b.prim_id) used += id != kInvalidPrimId ? 1 : 0;
+    }
+    stats.push_back({"triangle4_blocks", double(blocks_.size())});
+    stats.push_back({"block_fill", blocks_.empty() ? 0.0 : double(used) / (4.0 * double(blocks_.size()))});
+    stats.push_back({"skipped_coincident_vertex_triangles", double(skipped_coincident_)});
+  }
+  return stats;
 }
 
 std::vector<std::string> UniformGrid::validate() const {
   if (!scene_) return {"not built"};
   std::vector<std::string> problems;
   std::vector<std::uint8_t> seen(scene_->primitive_count(), 0);
-  if (lists_.offsets.empty() || lists_.offsets.front() != 0 || lists_.offsets.back() != lists_.ids.size()) {
+  const CellLists lists = cell_lists();
+  if (lists.offsets.empty() || lists.offsets.front() != 0 || lists.offsets.back() != lists.ids.size()) {
     problems.push_back("offsets do not span the reference array exactly");
     return problems;
   }
-  validate_cell_lists(*scene_, lists_.offsets, lists_.ids, frame_, pad_, exact_used_, seen, problems);
+  validate_cell_lists(*scene_, lists.offsets, lists.ids, frame_, pad_, exact_used_, seen, problems);
+  if (!empty_ && occupied_.size() != (std::size_t(frame_.cell_count()) + 63) / 64) {
+    problems.push_back("occupancy bits do not match the cells");
+  } else if (!empty_) {
+    for (std::uint32_t c = 0; c < frame_.cell_count(); ++c) {
+      const bool bit = (occupied_[c >> 6] >> (c & 63)) & 1u;
+      if (bit != (lists.offsets[c] != lists.offsets[c + 1])) {
+        problems.push_back("occupancy bit of cell " + std::to_string(c) + " is wrong");
+        break;
+      }
+    }
+  }
+  if (!block_first_.empty()) {
+    // Triangles left out of the blocks must have coincident vertices (never hit); the copies must be exact.
+    for (std::uint32_t id = 0; id < scene_->primitive_count(); ++id) {
+      if (scene_->is_valid(id) && !seen[id] && wide::coincident_vertices(scene_->triangle(id))) seen[id] = 1;
+    }
+    for (const auto& b : blocks_) {
+      for (int lane = 0; lane < 4; ++lane) {
+        const std::uint32_t id = b.prim_id[lane];
+        if (id == kInvalidPrimId || id >= scene_->primitive_count()) continue;
+        const auto& tri = scene_->triangle(id);
+        bool same = true;
+        for (int v = 0; v < 3; ++v) {
+          for (int a = 0; a < 3; ++a) same = same && b.vertex[v][a][lane] == tri[v][a];
+        }
+        if (!same) {
+          problems.push_back("block copy of triangle " + std::to_string(id) + " differs from the scene");
+          return problems;
+        }
+      }
+    }
+  }
   check_all_referenced(*scene_, seen, problems);
   if (prim_count_ > 0 && !frame_.box.contains(scene_->bounds())) problems.push_back("grid box does not hold the scene");
   return problems;
@@ -84,15 +171,20 @@ void register_uniform_grid(std::vector<AcceleratorInfo>& registry) {
        "uniform grid with compact cell lists and 3D-DDA traversal (Amanatides & Woo 1987, Lagae & Dutre 2008)",
        {{"density", OptionType::real, "3", "cells per axis ~ density * cbrt(primitives)", {}},
         {"exact", OptionType::boolean, "true", "triangles: reference only cells the triangle overlaps (SAT)", {}},
-        {"mailbox", OptionType::boolean, "true", "test a primitive spanning cells once per ray", {}},
+        {"mailbox", OptionType::boolean, d.mailbox ? "true" : "false",
+         "test a primitive spanning cells once per ray (blocks: whole blocks)", {}},
+        {"blocks", OptionType::boolean, d.blocks ? "true" : "false",
+         "triangles: cells hold Triangle4 blocks tested with SIMD (pays at density 1)", {}},
         {"max_resolution", OptionType::integer, std::to_string(d.max_resolution), "cells per axis at most", {}},
         {"max_cells", OptionType::integer, std::to_string(d.max_cells), "total cells at most (bounds memory)", {}}},
-       {"grid", "grid:exact=false", "grid:mailbox=false"},
+       {"grid", "grid:exact=false", "grid:mailbox=false", "grid:density=1,blocks=true,mailbox=false",
+        "grid:density=1,blocks=true,mailbox=true"},
        [](const Options& o) {
          UniformGridOptions opt;
          opt.density = o.get_real("density");
          opt.exact = o.get_bool("exact");
          opt.mailbox = o.get_bool("mailbox");
+         opt.blocks = o.get_bool("blocks");
          const long long res = o.get_int("max_resolution");
          const long long cells = o.get_int("max_cells");
          if (res < 1 || res > 65536) throw Error("grid: max_resolution must be in [1, 65536], got " + std::to_string(res));

@@ -76,8 +76,12 @@ TEST(KdTree, SahCutsOffEmptySpaceAndReportsStatistics) {
   EXPECT_LE(s.at("max_depth"), double(kd_tree_max_depth({}, 2000)));
   EXPECT_LT(s.at("sah_cost"), m.at("sah_cost"));
   EXPECT_EQ(s.at("nodes"), double(dynamic_cast<const KdTree&>(*sah).data().nodes.size()));
+  // Nodes, the reference array, and the Triangle4 copy of the leaves (one block start per node, plus one).
   EXPECT_EQ(sah->memory_bytes(), std::size_t(s.at("nodes")) * 8 +
-                                     dynamic_cast<const KdTree&>(*sah).data().prim_indices.size() * 4);
+                                     dynamic_cast<const KdTree&>(*sah).data().prim_indices.size() * 4 +
+                                     (std::size_t(s.at("nodes")) + 1) * 4 +
+                                     std::size_t(s.at("triangle4_blocks")) * sizeof(wide::Triangle4));
+  EXPECT_GT(s.at("block_fill"), 0.5);
 }
 
 TEST(KdTree, MailboxSavesTestsOnStraddlingTriangles) {

@@ -36,7 +36,9 @@ TEST(UniformGrid, ResolutionFollowsExtentAndDensity) {
 TEST(UniformGrid, MatchesBruteForceOnSoupForEveryVariant) {
   const Scene scene = Scene::from_mesh(testing::random_soup(3000, 7));
   const auto rays = testing::random_rays(3000, 11, scene.bounds());
-  for (const char* spec : {"grid", "grid:exact=false", "grid:mailbox=false", "grid:density=0.5"}) {
+  for (const char* spec : {"grid", "grid:exact=false", "grid:mailbox=false", "grid:blocks=true",
+                           "grid:density=1,blocks=true", "grid:density=1,blocks=true,mailbox=true",
+                           "grid:density=0.5", "grid:density=1"}) {
     auto grid = make_accelerator(spec);
     grid->build(scene);
     expect_valid(*grid);
@@ -59,7 +61,7 @@ TEST(UniformGrid, MatchesBruteForceOnClosedSphereFromInside) {
 
 TEST(UniformGrid, RaysAlongCellPlanesOfAQuadLattice) {
   const Scene scene = Scene::from_mesh(testing::quad_lattice(4));
-  for (const char* spec : {"grid:density=1", "grid:density=2", "grid:exact=false"}) {
+  for (const char* spec : {"grid:density=1", "grid:density=1,blocks=true", "grid:density=2", "grid:exact=false"}) {
     auto accel = make_accelerator(spec);
     accel->build(scene);
     expect_valid(*accel);

@@ -23,10 +23,14 @@ struct ShearedTriangle {
 inline constexpr float kShearSafeMax = 0x1p40f;
 inline constexpr float kShearSafeMin = 0x1p-40f;
 
+/// std::fmax(m, v) written out: without -ffinite-math-only GCC calls libm's fmaxf for it (measured: a quarter of
+/// the time of scalar triangle tests), this compiles to compares. A NaN operand yields the other one.
+inline float fmax_inline(float m, float v) { return (v > m || m != m) ? v : m; }
+
 /// Largest magnitude of the nine coordinates (NaN coordinates are ignored unless all are NaN).
 inline float max_magnitude(const ShearedTriangle& s) {
   float m = std::fabs(s.ax);
-  for (float v : {s.ay, s.az, s.bx, s.by, s.bz, s.cx, s.cy, s.cz}) m = std::fmax(m, std::fabs(v));
+  for (float v : {s.ay, s.az, s.bx, s.by, s.bz, s.cx, s.cy, s.cz}) m = fmax_inline(m, std::fabs(v));
   return m;
 }
 
