@@ -19,14 +19,7 @@ std::uint32_t pack_triangle_blocks(const Scene& scene, std::span<const std::uint
       out.push_back(block);
       lane = 0;
     }
-    Triangle4& block = out.back();
-    block.prim_id[lane] = id;
-    if (triangles) {
-      const auto& tri = scene.triangle(id);
-      for (int v = 0; v < 3; ++v) {
-        for (int a = 0; a < 3; ++a) block.vertex[v][a][lane] = tri[v][a];
-      }
-    }
+    set_block_lane(out.back(), lane, scene, id);
     ++lane;
   }
   return skipped;

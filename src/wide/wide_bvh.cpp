@@ -16,9 +16,6 @@ namespace rayaccel::wide {
 
 namespace {
 
-/// Exactly coincident vertex positions: such a triangle's edge functions cancel exactly (one is 0, the other two are
-/// negatives of each other), so it is never hit and can be left out of the leaves without changing any answer.
-bool has_coincident_vertices(const std::array<Vec3, 3>& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
 
 template <int W>
 void set_child_bounds(Node<W>& node, int lane, const AABB& box) {
@@ -113,11 +110,10 @@ void WideBvh::fill_leaves(const BuildTree& tree) {
                         for (std::size_t i = 0; i < (count + 3) / 4 * 4; ++i) {
                           Triangle4& block = blocks_[leaf.first_block + i / 4];
                           const int lane = static_cast<int>(i % 4);
-                          block.prim_id[lane] = i < count ? ids[i] : kInvalidPrimId;
-                          if (i >= count || !triangles_) continue;
-                          const auto& tri = scene_->triangle(ids[i]);
-                          for (int v = 0; v < 3; ++v) {
-                            for (int a = 0; a < 3; ++a) block.vertex[v][a][lane] = tri[v][a];
+                          if (i < count) {
+                            set_block_lane(block, lane, *scene_, ids[i]);
+                          } else {
+                            block.prim_id[lane] = kInvalidPrimId;
                           }
                         }
                       }
@@ -198,7 +194,7 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, scene.primitive_count(), 4096),
                       [&](const tbb::blocked_range<std::uint32_t>& range) {
                         for (std::uint32_t id = range.begin(); id != range.end(); ++id) {
-                          coincident_[id] = scene.is_valid(id) && has_coincident_vertices(scene.triangle(id)) ? 1 : 0;
+                          coincident_[id] = scene.is_valid(id) && coincident_vertices(scene.triangle(id)) ? 1 : 0;
                         }
                       });
   }
@@ -326,7 +322,7 @@ void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>
     }
   }
   for (std::uint32_t id = 0; id < seen.size() && problems.size() < 20; ++id) {
-    if (scene_->is_valid(id) && !seen[id] && !(triangles_ && has_coincident_vertices(scene_->triangle(id)))) {
+    if (scene_->is_valid(id) && !seen[id] && !(triangles_ && coincident_vertices(scene_->triangle(id)))) {
       problems.push_back("primitive " + std::to_string(id) + " is not reachable");
     }
   }

@@ -23,6 +23,16 @@ namespace rayaccel::wide {
 /// negatives of each other), so it is never hit and can be left out of the blocks without changing any answer.
 inline bool coincident_vertices(const std::array<Vec3, 3>& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
 
+/// Writes primitive `id` into lane `lane` of `block`: its id, and for a triangle mesh its vertices.
+inline void set_block_lane(Triangle4& block, int lane, const Scene& scene, std::uint32_t id) {
+  block.prim_id[lane] = id;
+  if (scene.kind() != PrimitiveKind::triangles) return;
+  const auto& tri = scene.triangle(id);
+  for (int v = 0; v < 3; ++v) {
+    for (int a = 0; a < 3; ++a) block.vertex[v][a][lane] = tri[v][a];
+  }
+}
+
 /// Appends ceil(k / 4) blocks holding the k triangles of `ids` that do not have coincident vertices, in order; the
 /// last block's unused lanes hold kInvalidPrimId and a zero triangle. For a scene that is not a triangle mesh the
 /// blocks hold only the ids (zero vertices) and nothing is left out. Returns the number of ids left out.

@@ -18,6 +18,7 @@
 #include "rayaccel/core/huge_page_allocator.h"
 #include "rayaccel/wide/avx2_kernels.h"
 #include "rayaccel/wide/simd_kernels.h"
+#include "rayaccel/wide/triangle_blocks.h"
 #include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
@@ -134,20 +135,8 @@ inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4
     }
     return found;
   }
-  if constexpr (Lanes::kWidth == 8) {
-    for (; b + 1 < end; b += 2) {
-      const Triangle4* pair[2] = {&blocks_[b], &blocks_[b + 1]};
-      stats.test_primitive(8);
-      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
-      if (AnyHit && found) return true;
-    }
-  }
-  for (; b < end; ++b) {
-    stats.test_primitive(4);
-    found |= intersect_triangles4(packet4, ray, blocks_[b], hit);
-    if (AnyHit && found) return true;
-  }
-  return found;
+  BlockMailbox unused;  // no mailbox: a primitive is in one leaf, or once per leaf (pre-split pieces)
+  return intersect_block_run<Lanes, AnyHit, false>(packet4, packet, ray, &blocks_[b], end - b, unused, hit, stats);
 }
 
 template <class Kernel, bool AnyHit, class Stats>
