@@ -172,7 +172,8 @@ class SahBuilder {
     const double p_above = child_cell(cell, axis, position, true).surface_area() * inv_area;
     auto cost = [&](std::size_t nb, std::size_t na) {
       const double bonus = (nb == 0 || na == 0) ? 1.0 - options_.empty_bonus : 1.0;
-      return bonus * (options_.traversal_cost + p_below * kd_leaf_cost(options_, nb) + p_above * kd_leaf_cost(options_, na));
+      return bonus *
+             (options_.traversal_cost + p_below * kd_leaf_cost(options_, nb) + p_above * kd_leaf_cost(options_, na));
     };
     const double planar_below = cost(n_below + n_planar, n_above);
     const double planar_above = cost(n_below, n_above + n_planar);

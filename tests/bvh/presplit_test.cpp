@@ -71,7 +71,8 @@ std::uint32_t check_pieces(const Scene& scene, const PresplitResult& result, flo
         const double u = double(i) / steps, v = double(j) / steps;
         Vec3 p;
         for (int a = 0; a < 3; ++a) {
-          p[a] = static_cast<float>(double(t[0][a]) + u * (double(t[1][a]) - t[0][a]) + v * (double(t[2][a]) - t[0][a]));
+          p[a] = static_cast<float>(double(t[0][a]) + u * (double(t[1][a]) - t[0][a]) +
+                                    v * (double(t[2][a]) - t[0][a]));
         }
         const bool covered = std::any_of(boxes.begin(), boxes.end(), [&](const AABB& box) {
           return (exact_points ? box : widen_for_clipping(box)).contains(p);

@@ -30,7 +30,7 @@ struct UniformGridOptions {
   /// 169 -> 28, 115 -> 23 MB). At density 3 blocks do not pay (memory grows 3-5x for little gain), so they are off
   /// by default.
   double density = 3.0;
-  bool exact = true;               ///< triangles: drop references whose triangle misses the cell (SAT); others use boxes
+  bool exact = true;  ///< triangles: drop references whose triangle misses the cell (SAT); others use boxes
   /// Skip primitives this ray tested in a recent cell; with blocks, a block whose triangles were all tested (with
   /// blocks the check costs more than it saves: equal or up to 1.6x slower in the bench above).
   bool mailbox = true;

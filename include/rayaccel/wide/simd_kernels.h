@@ -113,7 +113,9 @@ struct Sse4 {
   static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }
   static int movemask(F a) { return _mm_movemask_ps(a); }
   static void store(float* p, F a) { _mm_storeu_ps(p, a); }
-  static F load_vertex(const Triangle4* const* blocks, int v, int axis) { return _mm_load_ps(blocks[0]->vertex[v][axis]); }
+  static F load_vertex(const Triangle4* const* blocks, int v, int axis) {
+    return _mm_load_ps(blocks[0]->vertex[v][axis]);
+  }
   /// All-ones in lanes that hold no triangle.
   static F padding(const Triangle4* const* blocks) {
     const __m128i ids = _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id));
