@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <span>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -15,7 +14,6 @@
 namespace rayaccel::wide {
 
 namespace {
-
 
 template <int W>
 void set_child_bounds(Node<W>& node, int lane, const AABB& box) {
@@ -90,8 +88,8 @@ std::uint32_t WideBvh::emit_leaf(const BuildTree& tree, std::uint32_t binary_nod
   skipped_degenerate_ += dropped.coincident;
   dropped_repeats_ += dropped.repeats;
   if (count == 0) return kEmptyChild;
-  // Blocks are reserved here and filled later in parallel (fill_leaves): copying the triangles is the collapse's
-  // main cost, random reads of the scene's vertices.
+  // Blocks are reserved here and filled later in parallel (fill_leaves), where the random reads of the scene's
+  // vertices are spread over the threads.
   const auto block_count = static_cast<std::uint32_t>((count + 3) / 4);
   const auto first_block = static_cast<std::uint32_t>(blocks_.size());
   blocks_.resize(blocks_.size() + block_count);
