@@ -256,7 +256,13 @@ BuildTree build_binned_sah(std::vector<PrimRef> refs, const BinnedSahConfig& con
   }
   const int block_shift = __builtin_ctz(config.block_size);
   const TopDownLimits limits{config.max_leaf_size, config.parallel_threshold};
+  // A node of at most one block, when a traversal step costs at least a block test, is a leaf whatever the split:
+  // splitting costs at least the traversal step, the leaf one block test. Such nodes are not binned at all.
+  const std::size_t always_leaf = config.costs.intersection <= config.costs.traversal
+                                      ? std::min<std::size_t>(config.max_leaf_size, config.block_size)
+                                      : 0;
   return build_top_down(std::move(refs), limits, [&](std::uint32_t, std::span<PrimRef> node_refs) -> std::size_t {
+    if (node_refs.size() <= always_leaf) return 0;
     const BinnedSplit split = find_binned_split(node_refs, config.bin_count, block_shift);
     if (split.axis < 0) return 0;
     const float area = merge(split.left, split.right).surface_area();

@@ -91,27 +91,32 @@ std::uint32_t WideBvh::emit_leaf(const BuildTree& tree, std::uint32_t binary_nod
   // Blocks are reserved here and filled later in parallel (fill_leaves), where the random reads of the scene's
   // vertices are spread over the threads.
   const auto block_count = static_cast<std::uint32_t>((count + 3) / 4);
-  const auto first_block = static_cast<std::uint32_t>(blocks_.size());
-  blocks_.resize(blocks_.size() + block_count);
-  pending_leaves_.push_back({binary_node, first_block});
+  const std::uint32_t first_block = block_count_;
+  block_count_ += block_count;
+  pending_leaves_.push_back({static_cast<std::uint32_t>(pending_ids_.size()), static_cast<std::uint32_t>(count),
+                             first_block});
+  pending_ids_.insert(pending_ids_.end(), ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(count));
   return kLeafBit | (first_block << kBlockShift) | (block_count - 1);
 }
 
-void WideBvh::fill_leaves(const BuildTree& tree) {
+void WideBvh::fill_leaves() {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending_leaves_.size(), 512),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t k = range.begin(); k != range.end(); ++k) {
                         const PendingLeaf& leaf = pending_leaves_[k];
-                        std::array<std::uint32_t, 4 * kMaxLeafBlocks> ids;
-                        LeafIdCounts dropped;
-                        const std::size_t count = leaf_ids(tree, leaf.binary_node, ids.data(), dropped);
+                        const std::uint32_t* ids = pending_ids_.data() + leaf.first_id;
+                        const std::size_t count = leaf.id_count;
                         for (std::size_t i = 0; i < (count + 3) / 4 * 4; ++i) {
                           Triangle4& block = blocks_[leaf.first_block + i / 4];
                           const int lane = static_cast<int>(i % 4);
-                          if (i < count) {
+                          if (i < count && triangles_) {
                             set_block_lane(block, lane, *scene_, ids[i]);
-                          } else {
-                            block.prim_id[lane] = kInvalidPrimId;
+                            continue;
+                          }
+                          // Padding (a zero triangle, never hit), or only an id for other primitive kinds.
+                          block.prim_id[lane] = i < count ? ids[i] : kInvalidPrimId;
+                          for (int v = 0; v < 3; ++v) {
+                            for (int a = 0; a < 3; ++a) block.vertex[v][a][lane] = 0.0f;
                           }
                         }
                       }
@@ -123,22 +128,30 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
   depth_ = std::max(depth_, depth);
   if (tree.nodes[binary_node].is_leaf()) return emit_leaf(tree, binary_node);
   // Open the inner child of largest surface area until W children are gathered.
+  // Leaves take area -1 so that they are never opened.
   std::array<std::uint32_t, W> children{tree.nodes[binary_node].first, tree.nodes[binary_node].first + 1};
+  std::array<float, W> areas{};
+  const auto openable_area = [&](std::uint32_t c) {
+    return tree.nodes[c].is_leaf() ? -1.0f : binary_bounds_[c].surface_area();
+  };
+  areas[0] = openable_area(children[0]);
+  areas[1] = openable_area(children[1]);
   int child_count = 2;
   while (child_count < W) {
     int best = -1;
     float best_area = -1.0f;
     for (int i = 0; i < child_count; ++i) {
-      const float area = binary_bounds_[children[i]].surface_area();
-      if (!tree.nodes[children[i]].is_leaf() && area > best_area) {
+      if (areas[i] > best_area) {
         best = i;
-        best_area = area;
+        best_area = areas[i];
       }
     }
     if (best < 0) break;
     const std::uint32_t opened = tree.nodes[children[best]].first;
     children[best] = opened;
-    children[child_count++] = opened + 1;
+    areas[best] = openable_area(opened);
+    children[child_count] = opened + 1;
+    areas[child_count++] = openable_area(opened + 1);
   }
   const auto index = static_cast<std::uint32_t>(nodes.size());
   nodes.emplace_back();
@@ -184,6 +197,7 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   nodes4_.clear();
   nodes8_.clear();
   blocks_.clear();
+  block_count_ = 0;
   depth_ = 0;
   skipped_degenerate_ = 0;
   binary_bounds_ = binary_node_bounds(tree);
@@ -197,11 +211,10 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
                       });
   }
   pending_leaves_.clear();
-  // Room for the output without regrowing: one block per started four references of each leaf, and about
-  // one wide node per W - 1 binary interior nodes (the vectors still grow if a tree needs more).
-  std::size_t block_bound = 0;
-  for (const BuildNode& n : tree.nodes) block_bound += n.is_leaf() ? (n.count + 3) / 4 : 0;
-  blocks_.reserve(block_bound);
+  pending_ids_.clear();
+  pending_ids_.reserve(tree.refs.size());
+  // Room for the nodes without regrowing: about one wide node per W - 1 binary interior nodes (the vector still
+  // grows if a tree needs more). Leaf blocks are counted during the collapse and allocated once after it.
   const std::size_t interior = tree.nodes.size() / 2;
   if (width_ == 8) {
     nodes8_.reserve(interior / 7 + 16);
@@ -213,10 +226,12 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   } else {
     root_ = width_ == 8 ? emit<8>(tree, 0, 1, nodes8_) : emit<4>(tree, 0, 1, nodes4_);
   }
-  fill_leaves(tree);
+  blocks_.resize(block_count_);  // uninitialized: fill_leaves() writes every lane of every block, in parallel
+  fill_leaves();
   binary_bounds_ = {};
   coincident_ = {};
   pending_leaves_ = {};
+  pending_ids_ = {};
   if (depth_ > kBvhMaxDepth) {
     throw Error("wide BVH: tree depth " + std::to_string(depth_) + " exceeds the traversal stack bound");
   }

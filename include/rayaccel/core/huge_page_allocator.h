@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <type_traits>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -49,6 +51,29 @@ struct HugePageAllocator {
   template <class U>
   bool operator==(const HugePageAllocator<U>&) const {
     return true;
+  }
+};
+
+/// HugePageAllocator whose containers leave new elements of trivial types uninitialized (resize() without zeroing):
+/// for large arrays that are filled in parallel right after they are sized, so the pages are first touched by the
+/// threads that fill them. Every element must be written before it is read.
+template <class T>
+struct UninitializedHugePageAllocator : HugePageAllocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedHugePageAllocator<U>;
+  };
+  UninitializedHugePageAllocator() = default;
+  template <class U>
+  UninitializedHugePageAllocator(const UninitializedHugePageAllocator<U>&) {}  // NOLINT: converting
+
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0 && std::is_trivially_default_constructible_v<U>) {
+      ::new (static_cast<void*>(p)) U;  // default-initialization: no zeroing
+    } else {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
   }
 };
 

@@ -79,7 +79,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// The primitives a binary leaf contributes, each once; `dropped` counts what was left out.
   std::size_t leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
                        LeafIdCounts& dropped) const;
-  void fill_leaves(const BuildTree& tree);
+  void fill_leaves();
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
@@ -100,13 +100,16 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   // Large arrays on transparent huge pages where the system has them (fewer page faults and TLB misses).
   NodeArray<4> nodes4_;
   NodeArray<8> nodes8_;
-  std::vector<Triangle4, HugePageAllocator<Triangle4>> blocks_;
+  std::vector<Triangle4, UninitializedHugePageAllocator<Triangle4>> blocks_;  ///< every lane written by fill_leaves
+  std::uint32_t block_count_ = 0;  ///< build-time only: blocks reserved by emit_leaf, allocated after emit
   std::uint32_t root_ = kEmptyChild;
   std::vector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
   struct PendingLeaf {
-    std::uint32_t binary_node, first_block;
+    std::uint32_t first_id, id_count;  ///< the leaf's primitives: pending_ids_[first_id .. first_id + id_count)
+    std::uint32_t first_block;
   };
   std::vector<PendingLeaf> pending_leaves_;  ///< build-time only: leaves whose blocks fill_leaves() writes
+  std::vector<std::uint32_t> pending_ids_;   ///< build-time only: primitives of the pending leaves
   std::vector<std::uint8_t> coincident_;     ///< build-time only: triangles with coincident vertices (never hit)
   int depth_ = 0;
   std::uint32_t skipped_degenerate_ = 0;
@@ -184,8 +187,9 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
           ref = node.child[near];
           continue;
         }
-        // Three or more: gather them farthest first, push all but the nearest and descend into it.
-        Entry met[W];
+        // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
+        // the nearest is taken straight back off the top. Gathering them elsewhere and copying cost a memcpy call.
+        Entry* met = stack + top;
         met[0] = {node.child[first], entry[first]};
         met[1] = {node.child[second], entry[second]};
         if constexpr (!AnyHit) {
@@ -201,7 +205,7 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
           }
           met[i] = e;
         }
-        for (int i = 0; i < n - 1; ++i) stack[top++] = met[i];
+        top += n - 1;
         ref = met[n - 1].ref;
         continue;
       }
