@@ -104,8 +104,11 @@ inline bool intersect_block_run(const TrianglePacket<Sse4>& packet4, const Trian
       }
     }
     if (pending) {
+      // The odd block goes through the eight-lane test too, paired with itself: its triangles are tested twice
+      // in one instruction stream, and a repeated test cannot change the closest hit (t < hit.t is strict).
       stats.test_primitive(4);
-      found |= intersect_triangles4(packet4, ray, *pair[0], hit);
+      pair[1] = pair[0];
+      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
     }
   } else {
     for (std::uint32_t b = 0; b < count; ++b) {
