@@ -18,3 +18,5 @@ for threads in 1 2; do
     --compare embree --res "$res" --threads "$threads" --repeat 5 \
     --json "$out/threads$threads.json" | tee "$out/threads$threads.txt"
 done
+# The summary tables of BENCHMARKS.md (ratios to Embree, spatial structures against bvh_wide).
+python3 scripts/bench_summary.py "$out" | tee "$out/summary.md"
