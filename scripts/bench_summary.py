@@ -56,8 +56,8 @@ def main():
         for scene in run["scenes"]:
             rows = rows_by_accel(scene)
             embree = next(r for r in scene["results"] if r.get("is_embree"))
-            print(f"| {scene['scene']} | {threads} | {embree_figures(embree)} | {ratios_to_embree(rows[DEFAULT], embree)} "
-                  f"| {ratios_to_embree(rows[NO_PRESPLIT], embree)} |")
+            print(f"| {scene['scene']} | {threads} | {embree_figures(embree)} "
+                  f"| {ratios_to_embree(rows[DEFAULT], embree)} | {ratios_to_embree(rows[NO_PRESPLIT], embree)} |")
 
     print()
     print("| scene | " + " | ".join(f"{s} P / D / S" for s in SPATIAL) + " |")
