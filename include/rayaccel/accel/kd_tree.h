@@ -170,7 +170,6 @@ void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
   t0 = fmax_inline(ray.t_min, t0 * (t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp));
   RayMailbox<Mailbox> mailbox;
   wide::BlockMailbox block_mailbox;
-  const wide::TrianglePacket<wide::Sse4> packet4(ray);
   const wide::TrianglePacket<Lanes> packet(ray);
   const bool blocked = !block_first_.empty();
   const KdNode* nodes = data_.nodes.data();
@@ -192,7 +191,7 @@ void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     if (blocked) {
       const std::uint32_t first = block_first_[entry.node];
       const std::uint32_t count = block_first_[entry.node + 1] - first;
-      if (wide::intersect_block_run<Lanes, AnyHit, Mailbox>(packet4, packet, ray, blocks_.data() + first, count,
+      if (wide::intersect_block_run<Lanes, AnyHit, Mailbox>(packet, ray, blocks_.data() + first, count,
                                                             block_mailbox, hit, stats) &&
           AnyHit) {
         return SegmentVisit::stop;

@@ -128,7 +128,6 @@ void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) co
   GridDda dda(ray, frame_, t0);
   RayMailbox<true> mailbox;
   wide::BlockMailbox block_mailbox;
-  const wide::TrianglePacket<wide::Sse4> packet4(ray);
   const wide::TrianglePacket<Lanes> packet(ray);
   const bool blocked = !block_first_.empty();
   const std::uint64_t* occupied = occupied_.data();
@@ -142,9 +141,9 @@ void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) co
         const wide::Triangle4* blocks = blocks_.data() + first;
         const bool found =
             options_.mailbox
-                ? wide::intersect_block_run<Lanes, AnyHit, true>(packet4, packet, ray, blocks, count, block_mailbox,
+                ? wide::intersect_block_run<Lanes, AnyHit, true>(packet, ray, blocks, count, block_mailbox,
                                                                  hit, stats)
-                : wide::intersect_block_run<Lanes, AnyHit, false>(packet4, packet, ray, blocks, count, block_mailbox,
+                : wide::intersect_block_run<Lanes, AnyHit, false>(packet, ray, blocks, count, block_mailbox,
                                                                   hit, stats);
         if (AnyHit && found) return;
       } else {

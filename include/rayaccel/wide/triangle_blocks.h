@@ -79,16 +79,16 @@ struct BlockMailbox {
   }
 };
 
-/// Tests blocks[0 .. count) with the ray, closest hit into `hit`: pairs of blocks with eight lanes when Lanes is
-/// Avx8 (only from AVX2 functions, see WideBvh::trace_avx2), one block at a time with SSE2 otherwise. With Mailbox,
+/// Tests blocks[0 .. count) with the ray (`packet` over Lanes), closest hit into `hit`: pairs of blocks with eight
+/// lanes when Lanes is Avx8 (only from AVX2 functions, see WideBvh::trace_avx2; an odd last block is paired with
+/// itself), one block at a time when Lanes is Sse4. With Mailbox,
 /// blocks whose triangles were all tested before are skipped. Returns true on any update of `hit`; any-hit queries
 /// return at the first one.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 template <class Lanes, bool AnyHit, bool Mailbox, class Stats>
-inline bool intersect_block_run(const TrianglePacket<Sse4>& packet4, const TrianglePacket<Lanes>& packet,
-                                const PreparedRay& ray, const Triangle4* blocks, std::uint32_t count,
-                                BlockMailbox& mailbox, Hit& hit, Stats& stats) {
+inline bool intersect_block_run(const TrianglePacket<Lanes>& packet, const PreparedRay& ray, const Triangle4* blocks,
+                                std::uint32_t count, BlockMailbox& mailbox, Hit& hit, Stats& stats) {
   bool found = false;
   if constexpr (Lanes::kWidth == 8) {
     const Triangle4* pair[2];
@@ -114,7 +114,7 @@ inline bool intersect_block_run(const TrianglePacket<Sse4>& packet4, const Trian
     for (std::uint32_t b = 0; b < count; ++b) {
       if (Mailbox && mailbox.all_seen(blocks[b])) continue;
       stats.test_primitive(4);
-      found |= intersect_triangles4(packet4, ray, blocks[b], hit);
+      found |= intersect_triangles4(packet, ray, blocks[b], hit);
       if (AnyHit && found) return true;
     }
   }

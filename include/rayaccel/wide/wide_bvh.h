@@ -90,8 +90,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <class Kernel, bool AnyHit, class Stats>
   void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
-  bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4>& packet4, const TrianglePacket<Lanes>& packet,
-                      const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
+                      Stats& stats) const;
 
   WideBvhConfig config_;
   int width_ = 4;
@@ -121,9 +121,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
 /// Tests a leaf's blocks: two at a time when Lanes is eight wide (AVX2), one at a time with SSE otherwise.
 template <class Lanes, bool AnyHit, class Stats>
-inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4>& packet4,
-                                    const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
-                                    Stats& stats) const {
+inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet, const PreparedRay& ray,
+                                    Hit& hit, Stats& stats) const {
   std::uint32_t b = leaf_first_block(ref);
   const std::uint32_t end = b + leaf_block_count(ref);
   bool found = false;
@@ -139,7 +138,7 @@ inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Sse4
     return found;
   }
   BlockMailbox unused;  // no mailbox: a primitive is in one leaf, or once per leaf (pre-split pieces)
-  return intersect_block_run<Lanes, AnyHit, false>(packet4, packet, ray, &blocks_[b], end - b, unused, hit, stats);
+  return intersect_block_run<Lanes, AnyHit, false>(packet, ray, &blocks_[b], end - b, unused, hit, stats);
 }
 
 template <class Kernel, bool AnyHit, class Stats>
@@ -147,7 +146,6 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
                               Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (root_ == kEmptyChild) return;
-  const TrianglePacket<Sse4> triangle_packet4(ray);
   const TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
   struct Entry {
@@ -160,7 +158,7 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
   for (;;) {
     stats.visit_node();
     if (ref & kLeafBit) {
-      if (intersect_leaf<typename Kernel::Lanes, AnyHit>(ref, triangle_packet4, triangle_packet, ray, hit, stats) &&
+      if (intersect_leaf<typename Kernel::Lanes, AnyHit>(ref, triangle_packet, ray, hit, stats) &&
           AnyHit) {
         return;
       }
