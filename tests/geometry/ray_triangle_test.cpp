@@ -89,7 +89,10 @@ TEST(RayTriangle, TMaxIsInclusiveAndTMinExclusive) {
   EXPECT_TRUE(hit_triangle(Ray{o, 0.0f, d, 2.0f}, tri)) << "t == t_max counts";
   EXPECT_FALSE(hit_triangle(Ray{o, 0.0f, d, below}, tri));
   EXPECT_FALSE(hit_triangle(Ray{o, 2.0f, d, kInf}, tri)) << "t == t_min does not count";
-  EXPECT_TRUE(hit_triangle(Ray{o, below, d, kInf}, tri));
+  // t_min one ulp below the hit: within the bound on t's rounding error, so not counted (see ray_triangle.h);
+  // t_min clear of it (by 1e-5 relative here) is.
+  EXPECT_FALSE(hit_triangle(Ray{o, below, d, kInf}, tri)) << "a hit within t's error bound above t_min";
+  EXPECT_TRUE(hit_triangle(Ray{o, 2.0f * (1.0f - 1e-5f), d, kInf}, tri));
   EXPECT_FALSE(hit_triangle(Ray{o, above, d, kInf}, tri));
   EXPECT_FALSE(hit_triangle(Ray{o, 2.0f, d, 2.0f}, tri)) << "t_min == t_max: the interval (t_min, t_max] is empty";
   EXPECT_FALSE(hit_triangle(Ray{o, 0.0f, d, 0.0f}, tri)) << "t_max = 0";
@@ -99,6 +102,45 @@ TEST(RayTriangle, TMaxIsInclusiveAndTMinExclusive) {
   Hit hit = Hit::begin(r);
   hit.t = 2.0f;
   EXPECT_FALSE(intersect_triangle(r, tri[0], tri[1], tri[2], 0, hit)) << "equal t does not replace an earlier hit";
+}
+
+/// A ray leaving a large floor from a hair above it (one subnormal ulp, as render/workloads.h's offset gives an exact
+/// point on y = 0) moves away from the plane: exactly, it never meets it. The computed t of such a grazing plane hit
+/// is rounding noise of the size of the vertex coordinates times 2^-24 and can come out positive; the kernel must
+/// not count it (box culling, exactly conservative, rules it out, so structures would disagree with brute force).
+TEST(RayTriangle, RayLeavingAPlaneFromAHairAboveNeverHitsIt) {
+  const Triangle floor{Vec3{-500.0f, 0.0f, -1000.0f}, Vec3{-500.0f, 0.0f, -500.0f}, Vec3{0.0f, 0.0f, -500.0f}};
+  Rng rng(91);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    Ray ray;
+    ray.origin = {-100.0f - 300.0f * rng.uniform(), 0x1p-149f, -600.0f - 300.0f * rng.uniform()};
+    ray.direction = normalize(Vec3{rng.uniform() - 0.5f, 0.05f + rng.uniform(), rng.uniform() - 0.5f});
+    Hit hit;
+    if (hit_triangle(ray, floor, &hit)) {
+      ++hits;
+      if (hits < 4) ADD_FAILURE() << "hit at t = " << hit.t << " from y = 2^-149 moving up";
+    }
+  }
+  EXPECT_EQ(hits, 0);
+}
+
+/// The bound on t's rounding error does not cost real hits: a ray from just below the plane (exactly at distance
+/// 2^-149) going straight up hits it, and an ordinary hit still counts with t_min a little below it.
+TEST(RayTriangle, ErrorBoundOnTKeepsExactSmallAndOrdinaryHits) {
+  const Triangle floor{Vec3{-500.0f, 0.0f, -1000.0f}, Vec3{-500.0f, 0.0f, -500.0f}, Vec3{0.0f, 0.0f, -500.0f}};
+  Ray up;
+  up.origin = {-400.0f, -0x1p-149f, -600.0f};
+  up.direction = {0.0f, 1.0f, 0.0f};
+  Hit hit;
+  ASSERT_TRUE(hit_triangle(up, floor, &hit));
+  EXPECT_EQ(hit.t, 0x1p-149f);
+  Ray down;
+  down.origin = {-400.0f, 3.0f, -600.0f};
+  down.direction = normalize(Vec3{0.1f, -1.0f, 0.2f});
+  ASSERT_TRUE(hit_triangle(down, floor, &hit));
+  down.t_min = hit.t * 0.999f;  // far below the hit compared with its error bound
+  EXPECT_TRUE(hit_triangle(down, floor));
 }
 
 TEST(RayTriangle, HugeAndTinyCoordinates) {

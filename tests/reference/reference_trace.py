@@ -5,7 +5,8 @@ Follows Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection" (JCGT 2(1
 becomes z, the triangle is sheared so the ray runs along +z through the origin, and the three 2D edge functions
 decide the hit. Every step is float32 arithmetic in numpy with the operation order of the C++ kernel (no fused
 multiply-add), edge functions that come out exactly zero are recomputed in float64 (where the products are exact)
-and rounded back, the hit rule is t_min < t <= t_max, and of equal t the lowest triangle index wins. The output is
+and rounded back, the hit rule is t_min < t <= t_max with t clearing t_min by more than its rounding-error bound
+(pbrt-v3 section 3.9.6), and of equal t the lowest triangle index wins. The output is
 meant to be byte-identical to `rayaccel trace --accel brute_force`.
 
 Usage: reference_trace.py MESH.ply RAYS.rays OUT.hits
@@ -95,6 +96,12 @@ def dominant_axis(ad):
     return 1 if ad[1] >= ad[2] else 2
 
 
+def gamma(n):
+    """gamma(n) = n u / (1 - n u), u = 2^-24, in float32 as the C++ float_gamma() computes it."""
+    nu = F32(n) * F32(2.0 ** -24)
+    return nu / (F32(1) - nu)
+
+
 def trace_ray(mesh, ray):
     """(t, prim, u, v) of the closest hit with t_min < t <= t_max, or the miss record."""
     origin, t_min, direction, t_max = ray[0:3], ray[3], ray[4:7], ray[7]
@@ -143,8 +150,20 @@ def trace_ray(mesh, ray):
         scaled_t = (eu * az + ev * bz) + ew * cz
         inv_det = F32(1) / det
         t = scaled_t * inv_det
+        # pbrt-v3 section 3.9.6: the bound on t's rounding error; a hit must clear t_min by more than it. Same float32
+        # operations in the same order as t_error_bound() in ray_triangle.h.
+        max_zt = np.abs(sz) * np.maximum(np.abs(rel[0][kz]), np.maximum(np.abs(rel[1][kz]), np.abs(rel[2][kz])))
+        max_xt = np.maximum(np.abs(ax), np.maximum(np.abs(bx), np.abs(cx)))
+        max_yt = np.maximum(np.abs(ay), np.maximum(np.abs(by), np.abs(cy)))
+        delta_z = gamma(3) * max_zt
+        delta_x = gamma(5) * (max_xt + max_zt)
+        delta_y = gamma(5) * (max_yt + max_zt)
+        delta_e = F32(2) * ((gamma(2) * max_xt * max_yt + delta_y * max_xt) + delta_x * max_yt)
+        max_e = np.maximum(np.abs(eu), np.maximum(np.abs(ev), np.abs(ew)))
+        bound = F32(3) * ((gamma(3) * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * np.abs(inv_det)
+        clears_t_min = t > F32(t_min) + bound
     upper = np.nextafter(F32(t_max), F32(np.inf))  # exclusive bound, as Hit::begin sets it
-    accept = ~(negative & positive) & (det != 0) & (t > t_min) & (t < upper)
+    accept = ~(negative & positive) & (det != 0) & (t > t_min) & (t < upper) & clears_t_min
     if not np.any(accept):
         return miss
     candidates = np.nonzero(accept)[0]

@@ -93,7 +93,8 @@ class AcceleratorImpl : public Accelerator {
 };
 
 namespace detail {
-/// Runs body(begin, end) over [0, count) in parallel chunks (TBB); the one place batches are split.
+/// Runs body(begin, end) over [0, count) in parallel chunks (TBB), every chunk in the calling thread's floating-point
+/// environment (see accelerator.cpp); the one place batches are split.
 void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);
 }  // namespace detail

@@ -26,6 +26,8 @@ struct EmbreeOptions {
 /// Embree over a triangle scene. Hits follow this library's rules: t_min < t <= t_max, a miss is {t = +inf,
 /// prim_id = kInvalidPrimId, u = v = 0}, and void rays (NaN, infinite or zero direction, see PreparedRay) miss
 /// without reaching Embree. Traversal statistics are not available: the stats overloads leave them unchanged.
+/// Batches run with flush-to-zero and denormals-are-zero set, as Embree's documentation recommends for speed (so a
+/// subnormal ray component reads as zero there); single-ray calls run in the caller's floating-point environment.
 class EmbreeAccelerator final : public Accelerator {
  public:
   /// Creates the Embree device; throws Error with Embree's message when that fails.

@@ -3,6 +3,10 @@
 // triangles, so a ray through an edge or vertex of a closed mesh hits at least one triangle. No back-face culling.
 // Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and
 // tiny scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
+// A hit counts only when its computed t exceeds t_min by more than the rounding error bound of t (Pharr, Jakob,
+// Humphreys, "Physically Based Rendering", 3rd ed., section 3.9.6): t near t_min cannot be told from rounding, and
+// without the bound a ray leaving a surface could "hit" the plane it left at a small positive t that box culling
+// (exactly conservative) rules out, so structures would disagree with brute force on secondary rays.
 #pragma once
 
 #include <cmath>
@@ -41,6 +45,32 @@ inline bool in_safe_range(const ShearedTriangle& s) {
   return m <= kShearSafeMax && m >= kShearSafeMin;
 }
 
+/// gamma(n) = n u / (1 - n u), u = 2^-24: the relative rounding bound of n float operations (pbrt).
+constexpr float float_gamma(int n) { return float(n) * 0x1p-24f / (1.0f - float(n) * 0x1p-24f); }
+
+/// Bound on the rounding error of the t the watertight test computes from sheared triangle `s` with edge functions
+/// eu, ev, ew and 1 / det = inv_det (pbrt-v3 section 3.9.6, whose error terms count at least the operations made
+/// here). In the units of `s`: multiply by the same t_unscale as t.
+inline float t_error_bound(const PreparedRay& r, const ShearedTriangle& s, float eu, float ev, float ew,
+                           float inv_det) {
+  const float max_zt = std::fabs(r.shear_z) * fmax_inline(std::fabs(s.az), fmax_inline(std::fabs(s.bz), std::fabs(s.cz)));
+  const float max_xt = fmax_inline(std::fabs(s.ax), fmax_inline(std::fabs(s.bx), std::fabs(s.cx)));
+  const float max_yt = fmax_inline(std::fabs(s.ay), fmax_inline(std::fabs(s.by), std::fabs(s.cy)));
+  const float delta_z = float_gamma(3) * max_zt;
+  const float delta_x = float_gamma(5) * (max_xt + max_zt);
+  const float delta_y = float_gamma(5) * (max_yt + max_zt);
+  const float delta_e = 2.0f * (float_gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+  const float max_e = fmax_inline(std::fabs(eu), fmax_inline(std::fabs(ev), std::fabs(ew)));
+  return 3.0f * (float_gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::fabs(inv_det);
+}
+
+/// True when a hit at computed distance t (in the units of `s`, before t_unscale) lies beyond t_min by more than its
+/// error bound, so that exactly t > t_min.
+inline bool clears_t_min(const PreparedRay& r, const ShearedTriangle& s, float eu, float ev, float ew, float inv_det,
+                         float t, float t_unscale) {
+  return t > r.t_min + t_error_bound(r, s, eu, ev, ew, inv_det) * t_unscale;
+}
+
 /// Edge functions, sign test and distance of a sheared triangle; `t_unscale` undoes a power-of-two scaling of it.
 inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, float t_unscale,
                                        std::uint32_t prim_id, Hit& hit) {
@@ -63,6 +93,7 @@ inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriang
   const float inv_det = 1.0f / det;
   const float t = scaled_t * inv_det * t_unscale;
   if (!(t > r.t_min && t < hit.t)) return false;
+  if (!clears_t_min(r, s, eu, ev, ew, inv_det, t, t_unscale)) return false;
   hit.t = t;
   hit.prim_id = prim_id;
   hit.u = ev * inv_det;
@@ -80,17 +111,34 @@ inline bool intersect_rescaled_triangle(const PreparedRay& r, ShearedTriangle s,
   return intersect_sheared_triangle(r, s, std::ldexp(1.0f, exponent), prim_id, hit);
 }
 
+/// The triangle relative to the ray origin in the ray's sheared frame (the float operations every kernel makes).
+inline ShearedTriangle shear_triangle(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+  const Vec3 a = v0 - r.origin;
+  const Vec3 b = v1 - r.origin;
+  const Vec3 c = v2 - r.origin;
+  return {a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
+          b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
+          c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
+}
+
+/// clears_t_min() for a hit at t the SIMD kernels found on triangle (v0, v1, v2) in the safe range: the sheared
+/// coordinates, edge functions and 1 / det are recomputed with the float operations of the SIMD lanes (bit-identical),
+/// so SIMD and scalar kernels accept exactly the same hits.
+inline bool clears_t_min(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2, float t) {
+  const ShearedTriangle s = shear_triangle(r, v0, v1, v2);
+  const float eu = s.cx * s.by - s.cy * s.bx;
+  const float ev = s.ax * s.cy - s.ay * s.cx;
+  const float ew = s.bx * s.ay - s.by * s.ax;
+  const float inv_det = 1.0f / (eu + ev + ew);
+  return clears_t_min(r, s, eu, ev, ew, inv_det, t, 1.0f);
+}
+
 /// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t, stores t, prim_id and the Embree-style
 /// barycentrics (p = (1-u-v)*v0 + u*v1 + v*v2) in hit and returns true. Triangles with NaN vertices are never hit.
 /// Requires -ffp-contract=off (see cmake/Warnings.cmake).
 inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
                                std::uint32_t prim_id, Hit& hit) {
-  const Vec3 a = v0 - r.origin;
-  const Vec3 b = v1 - r.origin;
-  const Vec3 c = v2 - r.origin;
-  const ShearedTriangle s{a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
-                          b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
-                          c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
+  const ShearedTriangle s = shear_triangle(r, v0, v1, v2);
   if (in_safe_range(s)) return intersect_sheared_triangle(r, s, 1.0f, prim_id, hit);
   return intersect_rescaled_triangle(r, s, prim_id, hit);
 }

@@ -89,6 +89,11 @@ struct alignas(16) Triangle4 {
 };
 static_assert(sizeof(Triangle4) == 160, "Triangle4: 144 bytes of vertices + 16 bytes of ids");
 
+/// Vertex v of the triangle in lane `lane` of a block.
+inline Vec3 block_vertex(const Triangle4& block, int v, int lane) {
+  return {block.vertex[v][0][lane], block.vertex[v][1][lane], block.vertex[v][2][lane]};
+}
+
 /// The SIMD operations the triangle test is written over, four lanes of SSE2 (every x86-64 CPU has it); the eight
 /// lane AVX2 set is in avx2_kernels.h. A test over W lanes reads W / 4 Triangle4 blocks.
 struct Sse4 {
@@ -141,7 +146,8 @@ struct TrianglePacket {
 };
 
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
-/// Returns true on any update. Each lane performs the float operations of geometry/ray_triangle.h in the same order
+/// Returns true on any update. Candidate hits are then held to the conservative t_min bound (clears_t_min), as in
+/// the scalar kernel. Each lane performs the float operations of geometry/ray_triangle.h in the same order
 /// (no FMA contraction: -ffp-contract=off), so the answers are bit-identical to the scalar kernel's; lanes the float
 /// path cannot decide (an edge function exactly 0, or coordinates outside the safe range) go to the scalar kernel.
 template <class S>
@@ -203,8 +209,14 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     for (; lanes; lanes &= lanes - 1) {
       const int lane = __builtin_ctz(static_cast<unsigned>(lanes));
       if (t_lane[lane] < hit.t) {
+        const Triangle4& block = *blocks[lane / 4];
+        const int i = lane % 4;
+        if (!clears_t_min(scalar_ray, block_vertex(block, 0, i), block_vertex(block, 1, i), block_vertex(block, 2, i),
+                          t_lane[lane])) {
+          continue;
+        }
         hit.t = t_lane[lane];
-        hit.prim_id = blocks[lane / 4]->prim_id[lane % 4];
+        hit.prim_id = block.prim_id[i];
         hit.u = u_lane[lane];
         hit.v = v_lane[lane];
         updated = true;
@@ -215,10 +227,8 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     const int lane = __builtin_ctz(static_cast<unsigned>(rest));
     const Triangle4& block = *blocks[lane / 4];
     const int i = lane % 4;
-    const Vec3 v0{block.vertex[0][0][i], block.vertex[0][1][i], block.vertex[0][2][i]};
-    const Vec3 v1{block.vertex[1][0][i], block.vertex[1][1][i], block.vertex[1][2][i]};
-    const Vec3 v2{block.vertex[2][0][i], block.vertex[2][1][i], block.vertex[2][2][i]};
-    updated |= intersect_triangle(scalar_ray, v0, v1, v2, block.prim_id[i], hit);
+    updated |= intersect_triangle(scalar_ray, block_vertex(block, 0, i), block_vertex(block, 1, i),
+                                  block_vertex(block, 2, i), block.prim_id[i], hit);
   }
   return updated;
 }
