@@ -121,18 +121,6 @@ inline ShearedTriangle shear_triangle(const PreparedRay& r, const Vec3& v0, cons
           c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
 }
 
-/// clears_t_min() for a hit at t the SIMD kernels found on triangle (v0, v1, v2) in the safe range: the sheared
-/// coordinates, edge functions and 1 / det are recomputed with the float operations of the SIMD lanes (bit-identical),
-/// so SIMD and scalar kernels accept exactly the same hits.
-inline bool clears_t_min(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2, float t) {
-  const ShearedTriangle s = shear_triangle(r, v0, v1, v2);
-  const float eu = s.cx * s.by - s.cy * s.bx;
-  const float ev = s.ax * s.cy - s.ay * s.cx;
-  const float ew = s.bx * s.ay - s.by * s.ax;
-  const float inv_det = 1.0f / (eu + ev + ew);
-  return clears_t_min(r, s, eu, ev, ew, inv_det, t, 1.0f);
-}
-
 /// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t, stores t, prim_id and the Embree-style
 /// barycentrics (p = (1-u-v)*v0 + u*v1 + v*v2) in hit and returns true. Triangles with NaN vertices are never hit.
 /// Requires -ffp-contract=off (see cmake/Warnings.cmake).

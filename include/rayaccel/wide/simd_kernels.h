@@ -146,8 +146,7 @@ struct TrianglePacket {
 };
 
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
-/// Returns true on any update. Candidate hits are then held to the conservative t_min bound (clears_t_min), as in
-/// the scalar kernel. Each lane performs the float operations of geometry/ray_triangle.h in the same order
+/// Returns true on any update. Each lane performs the float operations of geometry/ray_triangle.h in the same order
 /// (no FMA contraction: -ffp-contract=off), so the answers are bit-identical to the scalar kernel's; lanes the float
 /// path cannot decide (an edge function exactly 0, or coordinates outside the safe range) go to the scalar kernel.
 template <class S>
@@ -173,13 +172,15 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
   const F padding = S::padding(blocks);
   // Lanes the float kernel cannot decide alone: an edge function of exactly zero (double-precision fallback) or
   // coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
+  // Largest magnitudes of the x, y and (unsheared) z coordinates: the safe-range test and the bound on t's error.
   const F sign_bit = S::set1(-0.0f);
-  F magnitude = S::and_not(sign_bit, pz[0]);
-  for (int v = 0; v < 3; ++v) {
-    magnitude = S::max(S::and_not(sign_bit, px[v]), magnitude);
-    magnitude = S::max(S::and_not(sign_bit, py[v]), magnitude);
-    magnitude = S::max(S::and_not(sign_bit, pz[v]), magnitude);
+  F max_x = S::and_not(sign_bit, px[0]), max_y = S::and_not(sign_bit, py[0]), max_z = S::and_not(sign_bit, pz[0]);
+  for (int v = 1; v < 3; ++v) {
+    max_x = S::max(S::and_not(sign_bit, px[v]), max_x);
+    max_y = S::max(S::and_not(sign_bit, py[v]), max_y);
+    max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
   }
+  const F magnitude = S::max(max_x, S::max(max_y, max_z));
   const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
   const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
   const F unsafe = S::and_not(safe, S::all_ones());
@@ -196,9 +197,25 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
   const F scaled_t = S::add(S::add(S::mul(eu, az), S::mul(ev, bz)), S::mul(ew, cz));
   const F inv_det = S::div(S::set1(1.0f), det);
   const F t = S::mul(scaled_t, inv_det);
+  // t must clear t_min by more than its rounding-error bound: t_error_bound() of ray_triangle.h, operation for
+  // operation (so SIMD and scalar accept the same hits).
+  const F max_zt = S::mul(S::and_not(sign_bit, ray.shear_z), max_z);
+  const F delta_z = S::mul(S::set1(float_gamma(3)), max_zt);
+  const F delta_x = S::mul(S::set1(float_gamma(5)), S::add(max_x, max_zt));
+  const F delta_y = S::mul(S::set1(float_gamma(5)), S::add(max_y, max_zt));
+  const F delta_e = S::mul(S::set1(2.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(2)), max_x), max_y),
+                                                       S::mul(delta_y, max_x)),
+                                                S::mul(delta_x, max_y)));
+  const F max_e =
+      S::max(S::and_not(sign_bit, eu), S::max(S::and_not(sign_bit, ev), S::and_not(sign_bit, ew)));
+  const F t_error = S::mul(
+      S::mul(S::set1(3.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(3)), max_e), max_zt),
+                                          S::mul(delta_e, max_zt)),
+                                   S::mul(delta_z, max_e))),
+      S::and_not(sign_bit, inv_det));
   const F valid = S::and_not(
-      mixed_signs,
-      S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, ray.t_min), S::lt(t, S::set1(hit.t)))));
+      mixed_signs, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(ray.t_min, t_error)),
+                                                            S::lt(t, S::set1(hit.t)))));
   int lanes = S::movemask(valid) & ~on_edge;
   bool updated = false;
   if (lanes) {
@@ -209,14 +226,8 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     for (; lanes; lanes &= lanes - 1) {
       const int lane = __builtin_ctz(static_cast<unsigned>(lanes));
       if (t_lane[lane] < hit.t) {
-        const Triangle4& block = *blocks[lane / 4];
-        const int i = lane % 4;
-        if (!clears_t_min(scalar_ray, block_vertex(block, 0, i), block_vertex(block, 1, i), block_vertex(block, 2, i),
-                          t_lane[lane])) {
-          continue;
-        }
         hit.t = t_lane[lane];
-        hit.prim_id = block.prim_id[i];
+        hit.prim_id = blocks[lane / 4]->prim_id[lane % 4];
         hit.u = u_lane[lane];
         hit.v = v_lane[lane];
         updated = true;
