@@ -9,17 +9,12 @@
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/float_rounding.h"
 #include "rayaccel/render/sampling.h"
 
 namespace rayaccel {
 
 namespace {
-
-/// Bound on the relative error of n float operations: n eps / (1 - n eps), eps = 2^-24 (pbrt's gamma(n)).
-constexpr float gamma_bound(int n) {
-  constexpr float eps = 0x1p-24f;
-  return static_cast<float>(n) * eps / (1.0f - static_cast<float>(n) * eps);
-}
 
 /// Unit normal at the hit facing the side the ray came from; a missing normal falls back to -direction.
 Vec3 facing_normal(const Scene& scene, const Ray& ray, const Hit& hit) {
@@ -88,13 +83,13 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
       const auto& v = scene.triangle(hit.prim_id);
       const float b0 = 1.0f - hit.u - hit.v;
       const Vec3 p0 = v[0] * b0, p1 = v[1] * hit.u, p2 = v[2] * hit.v;
-      return {p0 + p1 + p2, (abs(p0) + abs(p1) + abs(p2)) * gamma_bound(7)};
+      return {p0 + p1 + p2, (abs(p0) + abs(p1) + abs(p2)) * float_gamma(7)};
     }
     case PrimitiveKind::spheres: {
       const Sphere& s = scene.spheres()[hit.prim_id];
       const Vec3 raw = ray.origin + ray.direction * hit.t;
       const Vec3 radial = normalize(raw - s.center) * s.radius;
-      return {s.center + radial, (abs(s.center) + abs(radial)) * gamma_bound(6)};
+      return {s.center + radial, (abs(s.center) + abs(radial)) * float_gamma(6)};
     }
     case PrimitiveKind::user:
       break;

@@ -11,6 +11,9 @@
 
 namespace rayaccel {
 
+/// gamma(n) = n u / (1 - n u), u = 2^-24: the relative rounding bound of n float operations (pbrt, section 3.9.1).
+constexpr float float_gamma(int n) { return float(n) * 0x1p-24f / (1.0f - float(n) * 0x1p-24f); }
+
 /// The next float above f (+inf and NaN stay; -0 and +0 step to the smallest subnormal).
 inline float next_float_up(float f) {
   if (std::isnan(f) || f == std::numeric_limits<float>::infinity()) return f;

@@ -6,12 +6,13 @@
 #include <limits>
 
 #include "rayaccel/core/aabb.h"
+#include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/ray.h"
 
 namespace rayaccel {
 
 /// Relative rounding bound of three float operations, gamma(3) = 3u/(1-3u) with u = 2^-24 (Pharr et al., pbrt).
-inline constexpr float kGamma3 = 3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f);
+inline constexpr float kGamma3 = float_gamma(3);
 /// Multipliers that move a distance away from zero (far bound) or toward zero by 2*gamma(3).
 inline constexpr float kSlabWidenUp = 1.0f + 2.0f * kGamma3;
 inline constexpr float kSlabWidenDown = 1.0f - 2.0f * kGamma3;

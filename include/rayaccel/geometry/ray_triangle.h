@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <initializer_list>
 
+#include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/core/vec3.h"
@@ -45,15 +46,13 @@ inline bool in_safe_range(const ShearedTriangle& s) {
   return m <= kShearSafeMax && m >= kShearSafeMin;
 }
 
-/// gamma(n) = n u / (1 - n u), u = 2^-24: the relative rounding bound of n float operations (pbrt).
-constexpr float float_gamma(int n) { return float(n) * 0x1p-24f / (1.0f - float(n) * 0x1p-24f); }
-
 /// Bound on the rounding error of the t the watertight test computes from sheared triangle `s` with edge functions
 /// eu, ev, ew and 1 / det = inv_det (pbrt-v3 section 3.9.6, whose error terms count at least the operations made
 /// here). In the units of `s`: multiply by the same t_unscale as t.
 inline float t_error_bound(const PreparedRay& r, const ShearedTriangle& s, float eu, float ev, float ew,
                            float inv_det) {
-  const float max_zt = std::fabs(r.shear_z) * fmax_inline(std::fabs(s.az), fmax_inline(std::fabs(s.bz), std::fabs(s.cz)));
+  const float max_z = fmax_inline(std::fabs(s.az), fmax_inline(std::fabs(s.bz), std::fabs(s.cz)));
+  const float max_zt = std::fabs(r.shear_z) * max_z;
   const float max_xt = fmax_inline(std::fabs(s.ax), fmax_inline(std::fabs(s.bx), std::fabs(s.cx)));
   const float max_yt = fmax_inline(std::fabs(s.ay), fmax_inline(std::fabs(s.by), std::fabs(s.cy)));
   const float delta_z = float_gamma(3) * max_zt;
@@ -111,22 +110,17 @@ inline bool intersect_rescaled_triangle(const PreparedRay& r, ShearedTriangle s,
   return intersect_sheared_triangle(r, s, std::ldexp(1.0f, exponent), prim_id, hit);
 }
 
-/// The triangle relative to the ray origin in the ray's sheared frame (the float operations every kernel makes).
-inline ShearedTriangle shear_triangle(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+/// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t (t clearing t_min by its error bound),
+/// stores t, prim_id and the Embree-style barycentrics (p = (1-u-v)*v0 + u*v1 + v*v2) in hit and returns true.
+/// Triangles with NaN vertices are never hit. Requires -ffp-contract=off (see cmake/Warnings.cmake).
+inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
+                               std::uint32_t prim_id, Hit& hit) {
   const Vec3 a = v0 - r.origin;
   const Vec3 b = v1 - r.origin;
   const Vec3 c = v2 - r.origin;
-  return {a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
-          b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
-          c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
-}
-
-/// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t, stores t, prim_id and the Embree-style
-/// barycentrics (p = (1-u-v)*v0 + u*v1 + v*v2) in hit and returns true. Triangles with NaN vertices are never hit.
-/// Requires -ffp-contract=off (see cmake/Warnings.cmake).
-inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
-                               std::uint32_t prim_id, Hit& hit) {
-  const ShearedTriangle s = shear_triangle(r, v0, v1, v2);
+  const ShearedTriangle s{a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
+                          b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
+                          c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
   if (in_safe_range(s)) return intersect_sheared_triangle(r, s, 1.0f, prim_id, hit);
   return intersect_rescaled_triangle(r, s, prim_id, hit);
 }

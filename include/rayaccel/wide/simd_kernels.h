@@ -89,11 +89,6 @@ struct alignas(16) Triangle4 {
 };
 static_assert(sizeof(Triangle4) == 160, "Triangle4: 144 bytes of vertices + 16 bytes of ids");
 
-/// Vertex v of the triangle in lane `lane` of a block.
-inline Vec3 block_vertex(const Triangle4& block, int v, int lane) {
-  return {block.vertex[v][0][lane], block.vertex[v][1][lane], block.vertex[v][2][lane]};
-}
-
 /// The SIMD operations the triangle test is written over, four lanes of SSE2 (every x86-64 CPU has it); the eight
 /// lane AVX2 set is in avx2_kernels.h. A test over W lanes reads W / 4 Triangle4 blocks.
 struct Sse4 {
@@ -170,8 +165,6 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
   const F ew = S::sub(S::mul(px[1], py[0]), S::mul(py[1], px[0]));
   const F zero = S::zero();
   const F padding = S::padding(blocks);
-  // Lanes the float kernel cannot decide alone: an edge function of exactly zero (double-precision fallback) or
-  // coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
   // Largest magnitudes of the x, y and (unsheared) z coordinates: the safe-range test and the bound on t's error.
   const F sign_bit = S::set1(-0.0f);
   F max_x = S::and_not(sign_bit, px[0]), max_y = S::and_not(sign_bit, py[0]), max_z = S::and_not(sign_bit, pz[0]);
@@ -181,6 +174,8 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
   }
   const F magnitude = S::max(max_x, S::max(max_y, max_z));
+  // Lanes the float kernel cannot decide alone: an edge function of exactly zero (double-precision fallback) or
+  // coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
   const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
   const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
   const F unsafe = S::and_not(safe, S::all_ones());
@@ -238,8 +233,10 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     const int lane = __builtin_ctz(static_cast<unsigned>(rest));
     const Triangle4& block = *blocks[lane / 4];
     const int i = lane % 4;
-    updated |= intersect_triangle(scalar_ray, block_vertex(block, 0, i), block_vertex(block, 1, i),
-                                  block_vertex(block, 2, i), block.prim_id[i], hit);
+    const Vec3 v0{block.vertex[0][0][i], block.vertex[0][1][i], block.vertex[0][2][i]};
+    const Vec3 v1{block.vertex[1][0][i], block.vertex[1][1][i], block.vertex[1][2][i]};
+    const Vec3 v2{block.vertex[2][0][i], block.vertex[2][1][i], block.vertex[2][2][i]};
+    updated |= intersect_triangle(scalar_ray, v0, v1, v2, block.prim_id[i], hit);
   }
   return updated;
 }
