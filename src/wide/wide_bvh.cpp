@@ -55,6 +55,13 @@ bool cpu_has_avx2() {
   return has;
 }
 
+bool cpu_has_avx512() {
+  static const bool has = cpu_has_avx2() && __builtin_cpu_supports("avx512f") &&
+                          __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
+                          __builtin_cpu_supports("avx512bw");
+  return has;
+}
+
 std::size_t WideBvh::leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
                               LeafIdCounts& dropped) const {
   const BuildNode& n = tree.nodes[binary_node];
@@ -194,6 +201,7 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   triangles_ = scene.kind() == PrimitiveKind::triangles;
   width_ = config_.width == 8 || (config_.width == 0 && cpu_has_avx2()) ? 8 : 4;
   if (width_ == 8 && !cpu_has_avx2()) width_ = 4;  // width=8 asked on a CPU without AVX2: same tree shape rules, SSE
+  avx512_ = width_ == 8 && config_.isa != WideIsa::avx2 && cpu_has_avx512();
   nodes4_.clear();
   nodes8_.clear();
   blocks_.clear();
@@ -247,6 +255,7 @@ std::vector<BuildStatistic> WideBvh::build_statistics() const {
     for (std::uint32_t id : b.prim_id) used_lanes += id != kInvalidPrimId ? 1 : 0;
   }
   return {{"width", double(width_)},
+          {"avx512_kernels", avx512_ ? 1.0 : 0.0},
           {"nodes", double(nodes4_.size() + nodes8_.size())},
           {"triangle4_blocks", double(blocks_.size())},
           {"block_fill", blocks_.empty() ? 0.0 : double(used_lanes) / (4.0 * blocks_.size())},
@@ -359,21 +368,28 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
   const BinnedSahConfig defaults = WideBvhConfig{}.binary;
   registry.push_back(
       {"bvh_wide",
-       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 when the CPU "
-       "has it",
+       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 (or its "
+       "AVX-512 build) when the CPU has it",
        {{"width", OptionType::choice, "auto", "children per node: 4 (SSE2), 8 (AVX2; 4 on CPUs without it), auto",
          {"auto", "4", "8"}},
+        {"isa", OptionType::choice, "best",
+         "instruction set of the eight-wide kernels: best (AVX-512 build where the CPU has it, else AVX2) or avx2",
+         {"best", "avx2"}},
         {"bins", OptionType::integer, std::to_string(defaults.bin_count), "SAH bins per axis of the binary build (2..64)",
          {}},
         {"presplit", OptionType::real, kDefaultPresplit,
          "triangle pre-splitting (Karras & Aila 2013): extra references as a fraction of the triangle count, 0..4; 0 "
          "turns it off",
          {}}},
-       {"bvh_wide:width=4", "bvh_wide:width=8", "bvh_wide:presplit=0"},
+       {"bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0"},
        [](const Options& options) {
          WideBvhConfig config;
          const std::string& width = options.get("width");
          config.width = width == "auto" ? 0 : std::stoi(width);
+         config.isa = options.get("isa") == "avx2" ? WideIsa::avx2 : WideIsa::best;
+         if (config.width == 4 && config.isa != WideIsa::best) {
+           throw Error("bvh_wide: isa=" + options.get("isa") + " applies to the eight-wide kernels, not width=4");
+         }
          const long long bins = options.get_int("bins");
          if (bins < 2 || bins > 64) throw Error("bvh_wide: bins must be in 2..64, got " + std::to_string(bins));
          config.binary.bin_count = static_cast<std::uint32_t>(bins);

@@ -1,4 +1,5 @@
-// The SIMD triangle tests of the wide BVH (four SSE lanes, eight AVX2 lanes) against the scalar watertight kernel:
+// The SIMD triangle tests of the wide BVH (four SSE lanes, eight AVX2 lanes, and the eight lanes compiled for AVX-512)
+// against the scalar watertight kernel:
 // every lane must give the scalar kernel's answer bit for bit (t, u, v and the primitive), including lanes that
 // fall back to the scalar kernel (rays through edges and vertices, coordinates outside the safe range) and padding
 // lanes, which must never hit.
@@ -65,6 +66,16 @@ __attribute__((target("avx2"), flatten)) Hit avx_hit(const PreparedRay& ray, con
   return hit;
 }
 
+/// The same eight-lane test in the AVX-512 build the wide BVH uses where the CPU has it (WideIsa::best).
+__attribute__((target("avx2,avx512f,avx512vl,avx512dq,avx512bw"), flatten)) Hit avx512_hit(
+    const PreparedRay& ray, const Triangle4& first, const Triangle4& second) {
+  Hit hit = Hit::begin(ray);
+  const TrianglePacket<Avx8> packet(ray);
+  const Triangle4* blocks[2] = {&first, &second};
+  intersect_triangle_lanes<Avx8>(packet, ray, blocks, hit);
+  return hit;
+}
+
 /// Triangles and rays that exercise every path: random ones, rays aimed exactly at vertices and edge midpoints of
 /// axis-aligned triangles (edge functions of exactly zero), and huge and tiny scales (outside the safe range).
 struct Case {
@@ -123,6 +134,7 @@ TEST(TriangleLanes, EveryLaneMatchesTheScalarKernelBitForBit) {
       put(blocks[lane / 4], lane % 4, cases[i].triangle, id);
       if (lane < 4) expect_same_hit(sse_hit(ray, blocks[0]), expected, "SSE lane");
       if (cpu_has_avx2()) expect_same_hit(avx_hit(ray, blocks[0], blocks[1]), expected, "AVX2 lane");
+      if (cpu_has_avx512()) expect_same_hit(avx512_hit(ray, blocks[0], blocks[1]), expected, "AVX-512 lane");
     }
     if (HasFailure()) {
       ADD_FAILURE() << "first failing case " << i;
@@ -148,6 +160,7 @@ TEST(TriangleLanes, FullBlocksReturnTheClosestOfTheirTriangles) {
       if (lane == 3) expect_same_hit(sse_hit(ray, blocks[0]), expected, "SSE block");
     }
     if (cpu_has_avx2()) expect_same_hit(avx_hit(ray, blocks[0], blocks[1]), expected, "AVX2 pair");
+    if (cpu_has_avx512()) expect_same_hit(avx512_hit(ray, blocks[0], blocks[1]), expected, "AVX-512 pair");
   }
 }
 
@@ -158,6 +171,9 @@ TEST(TriangleLanes, PaddingLanesNeverHit) {
   EXPECT_EQ(sse_hit(ray, block).prim_id, kInvalidPrimId);
   if (cpu_has_avx2()) {
     EXPECT_EQ(avx_hit(ray, block, block).prim_id, kInvalidPrimId);
+  }
+  if (cpu_has_avx512()) {
+    EXPECT_EQ(avx512_hit(ray, block, block).prim_id, kInvalidPrimId);
   }
 }
 

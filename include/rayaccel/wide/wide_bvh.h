@@ -2,8 +2,8 @@
 // of largest surface area (Wald, Benthin, Boulos 2008, "Getting rid of packets"; Dammertz et al. 2008, "Shallow
 // bounding volume hierarchies"), child boxes stored SoA so one SIMD test covers every child, and leaves of Triangle4
 // blocks tested four at a time with the watertight kernel (other primitive kinds: the same tree, leaves tested one by
-// one). Width 8 uses AVX2 and is chosen at run time only when the CPU has it; width 4 uses SSE2, which every x86-64
-// CPU has. Closest-hit traversal visits children near-first; any-hit stops at the first hit.
+// one). Width 8 uses AVX2 and is chosen at run time only when the CPU has it (the same kernels compiled for AVX-512
+// where the CPU has that: EVEX encoding and 32 vector registers); width 4 uses SSE2, which every x86-64 CPU has. Closest-hit traversal visits children near-first; any-hit stops at the first hit.
 #pragma once
 
 #include <cstdint>
@@ -23,9 +23,17 @@
 
 namespace rayaccel::wide {
 
+/// Instruction set of the eight-wide traversal. best: where the CPU has AVX-512 (F, VL, DQ, BW), the AVX2 kernels
+/// compiled for it: the same 256-bit operations with the same results, EVEX-encoded, with 32 vector registers
+/// instead of 16 so the per-ray constants of the box and triangle tests stay in registers; AVX2 otherwise. avx2: the
+/// AVX2 build even on an AVX-512 CPU (so tests cover both).
+enum class WideIsa { best, avx2 };
+
 struct WideBvhConfig {
   /// Children per node: 4 (SSE2), 8 (AVX2), or 0 for the widest this CPU runs.
   int width = 0;
+  /// Eight-wide kernels' instruction set: the best this CPU runs, or at most AVX2 (for testing that path).
+  WideIsa isa = WideIsa::best;
   /// The binary tree that is collapsed: binned SAH whose leaves hold up to two Triangle4 blocks, costed per block
   /// (four triangles are tested for the price of one, so the SAH charges 1 per started block of 4, as Embree's
   /// builders do). Measured against 0.3 per triangle with leaves of at most 4 (rayaccel bench, 1 thread, bunny,
@@ -45,6 +53,8 @@ using NodeArray = std::vector<Node<W>, HugePageAllocator<Node<W>>>;
 
 /// True when this CPU runs the AVX2 kernels.
 bool cpu_has_avx2();
+/// True when this CPU runs the kernels compiled for AVX-512 (F, VL, DQ and BW).
+bool cpu_has_avx512();
 
 class WideBvh final : public AcceleratorImpl<WideBvh> {
  public:
@@ -55,13 +65,17 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// primitive from several leaves (each with the box of its part); a primitive repeated within one leaf is kept once.
   void build_from(const Scene& scene, const BuildTree& tree);
   int width() const { return width_; }
+  /// True when the eight-wide kernels run in their AVX-512 build (see WideIsa).
+  bool uses_avx512() const { return avx512_; }
   std::size_t memory_bytes() const override;
   std::vector<BuildStatistic> build_statistics() const override;
   std::vector<std::string> validate() const override;
 
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    if (width_ == 8) {
+    if (avx512_) {
+      trace_avx512<AnyHit>(ray, hit, stats);
+    } else if (width_ == 8) {
       trace_avx2<AnyHit>(ray, hit, stats);
     } else {
       traverse<BoxKernel4, AnyHit>(nodes4_, ray, hit, stats);
@@ -87,6 +101,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   __attribute__((target("avx2"), flatten)) void trace_avx2(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
   }
+  template <bool AnyHit, class Stats>
+  __attribute__((target("avx2,avx512f,avx512vl,avx512dq,avx512bw"), flatten)) void trace_avx512(
+      const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
+  }
   template <class Kernel, bool AnyHit, class Stats>
   void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
@@ -95,6 +114,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
   WideBvhConfig config_;
   int width_ = 4;
+  bool avx512_ = false;  ///< width 8 with the AVX-512 build of the kernels
   const Scene* scene_ = nullptr;
   bool triangles_ = true;  ///< false: blocks hold only ids, tested through Scene::intersect
   // Large arrays on transparent huge pages where the system has them (fewer page faults and TLB misses).
