@@ -188,7 +188,10 @@ std::vector<Ray> random_rays(const AABB& scene_box, std::size_t count, std::uint
     }
     ray.direction = d * rng.uniform(0.5f, 2.0f);
     const float speed = length(ray.direction);
-    ray.t_min = rng.below(10) == 0 ? rng.uniform(0.0f, radius) / speed : 0.0f;
+    // One ray in ten starts later along its line; one in ten earlier (a negative t_min: the segment reaches behind
+    // the origin, which traversals must not assume away).
+    const std::uint32_t start = rng.below(10);
+    ray.t_min = start == 0 ? rng.uniform(0.0f, radius) / speed : start == 1 ? -rng.uniform(0.0f, radius) / speed : 0.0f;
     ray.t_max = rng.below(4) == 0 ? ray.t_min + rng.uniform(0.0f, 4.0f * radius) / speed : kInf;
   }
   return rays;

@@ -55,6 +55,7 @@ struct BoxKernel8 {
     __m256 inv_direction[3];
     __m256 t_min;
     int near_offset[3];
+    bool t_min_non_negative;  ///< then every entry distance is >= 0 and the widening needs no per-lane sign test
   };
 
   __attribute__((target("avx2"))) static Packet prepare(const PreparedRay& r) {
@@ -65,6 +66,7 @@ struct BoxKernel8 {
       p.near_offset[a] = r.negative[a];
     }
     p.t_min = _mm256_set1_ps(r.t_min);
+    p.t_min_non_negative = r.t_min >= 0.0f;
     return p;
   }
 
@@ -87,8 +89,16 @@ struct BoxKernel8 {
       t_near = _mm256_max_ps(t0, t_near);  // NaN in t0 keeps the running bound (second operand)
       t_far = _mm256_min_ps(t1, t_far);
     }
-    t_near = widen(t_near, kSlabWidenDown, kSlabWidenUp);
-    t_far = widen(t_far, kSlabWidenUp, kSlabWidenDown);
+    if (ray.t_min_non_negative) {
+      // t_near >= t_min >= 0 in every lane, so it widens by the non-negative factor; t_far widens by its own
+      // non-negative factor too: where t_far < 0 either factor leaves it negative, below t_near, and the lane misses
+      // as it would have (the same masks and entry distances as the general case, two dependent steps shorter).
+      t_near = _mm256_mul_ps(t_near, _mm256_set1_ps(kSlabWidenDown));
+      t_far = _mm256_mul_ps(t_far, _mm256_set1_ps(kSlabWidenUp));
+    } else {
+      t_near = widen(t_near, kSlabWidenDown, kSlabWidenUp);
+      t_far = widen(t_far, kSlabWidenUp, kSlabWidenDown);
+    }
     _mm256_store_ps(t_entry, t_near);
     return _mm256_movemask_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ));
   }

@@ -21,6 +21,7 @@ struct RayPacket4 {
   __m128 inv_direction[3];
   int near_offset[3];  ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
   __m128 t_min;
+  bool t_min_non_negative;  ///< see BoxKernel8::Packet
 
   explicit RayPacket4(const PreparedRay& r) {
     for (int a = 0; a < 3; ++a) {
@@ -29,6 +30,7 @@ struct RayPacket4 {
       near_offset[a] = r.negative[a];
     }
     t_min = _mm_set1_ps(r.t_min);
+    t_min_non_negative = r.t_min >= 0.0f;
   }
 };
 
@@ -61,8 +63,13 @@ inline int intersect_boxes4(const RayPacket4& ray, const float (*bounds)[2][4], 
     t_near = _mm_max_ps(t0, t_near);
     t_far = _mm_min_ps(t1, t_far);
   }
-  t_near = widen_down(t_near);
-  t_far = widen_up(t_far);
+  if (ray.t_min_non_negative) {  // as in BoxKernel8::intersect: the same result without the per-lane sign tests
+    t_near = _mm_mul_ps(t_near, _mm_set1_ps(kSlabWidenDown));
+    t_far = _mm_mul_ps(t_far, _mm_set1_ps(kSlabWidenUp));
+  } else {
+    t_near = widen_down(t_near);
+    t_far = widen_up(t_far);
+  }
   t_entry = t_near;
   return _mm_movemask_ps(_mm_cmple_ps(t_near, t_far));
 }
