@@ -125,6 +125,27 @@ TEST(RayTriangle, RayLeavingAPlaneFromAHairAboveNeverHitsIt) {
   EXPECT_EQ(hits, 0);
 }
 
+/// A ray parallel to a wall and a subnormal distance beyond its bottom edge: the edge function of that edge is a
+/// tiny nonzero number, exactly zero in float, so the kernel decides it in double, and the conversion back to float
+/// must keep its sign (a zero would count the ray as on the edge, a hit).
+TEST(RayTriangle, SubnormalEdgeFunctionsKeepTheirSign) {
+  // The bottom edge is short (0.25), so 2^-149 times the sheared edge coordinates rounds to the same float at both
+  // ends and the float edge function cancels to zero.
+  const Triangle wall{Vec3{0.0f, 1.0f, 0.0f}, Vec3{0.25f, 1.0f, 0.0f}, Vec3{0.0f, 1.0f, 5.0f}};
+  Rng rng(92);
+  int hits = 0;
+  int hits_above = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 d{0.02f * (rng.uniform() - 0.5f), 0.5f + rng.uniform(), 0.0f};
+    const float x = 0.03f + 0.19f * rng.uniform();
+    // Below the edge z = 0: exactly a miss. Just above it: exactly a hit.
+    hits += hit_triangle(Ray{Vec3{x, 0.25f, -0x1p-149f}, 0.0f, d, kInf}, wall) ? 1 : 0;
+    hits_above += hit_triangle(Ray{Vec3{x, 0.25f, 0x1p-149f}, 0.0f, d, kInf}, wall) ? 1 : 0;
+  }
+  EXPECT_EQ(hits, 0) << "rays passing 2^-149 below the wall's edge";
+  EXPECT_EQ(hits_above, 1000) << "rays passing 2^-149 above the wall's edge";
+}
+
 /// The bound on t's rounding error does not cost real hits: a ray from just below the plane (exactly at distance
 /// 2^-149) going straight up hits it, and an ordinary hit still counts with t_min a little below it.
 TEST(RayTriangle, ErrorBoundOnTKeepsExactSmallAndOrdinaryHits) {

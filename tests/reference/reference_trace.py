@@ -5,9 +5,9 @@ Follows Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection" (JCGT 2(1
 becomes z, the triangle is sheared so the ray runs along +z through the origin, and the three 2D edge functions
 decide the hit. Every step is float32 arithmetic in numpy with the operation order of the C++ kernel (no fused
 multiply-add), edge functions that come out exactly zero are recomputed in float64 (where the products are exact)
-and rounded back, the hit rule is t_min < t <= t_max with t clearing t_min by more than its rounding-error bound
-(pbrt-v3 section 3.9.6), and of equal t the lowest triangle index wins. The output is
-meant to be byte-identical to `rayaccel trace --accel brute_force`.
+and rounded back (a nonzero value keeping its sign), the hit rule is t_min < t <= t_max with t clearing t_min by
+more than its rounding-error bound (pbrt-v3 section 3.9.6), and of equal t the lowest triangle index wins. The
+output is meant to be byte-identical to `rayaccel trace --accel brute_force`.
 
 Usage: reference_trace.py MESH.ply RAYS.rays OUT.hits
 """
@@ -17,6 +17,16 @@ import numpy as np
 
 F32 = np.float32
 MISS_PRIM = 0xFFFFFFFF
+SMALLEST_SUBNORMAL = np.float32(2.0 ** -149)
+
+
+def to_float_keeping_sign(e):
+    """float64 edge functions rounded to float32, except that a nonzero value too small for float32 becomes the
+    smallest subnormal of its sign rather than zero (which would put the ray on the edge)."""
+    f = e.astype(F32)
+    lost = (f == 0) & (e != 0)
+    f[lost] = np.where(e[lost] > 0, SMALLEST_SUBNORMAL, -SMALLEST_SUBNORMAL)
+    return f
 
 
 def read_binary_ply(path):
@@ -137,9 +147,9 @@ def trace_ray(mesh, ray):
     if np.any(redo):
         d = [np.asarray(a[redo], dtype=np.float64) for a in (ax, ay, bx, by, cx, cy)]
         dax, day, dbx, dby, dcx, dcy = d
-        eu[redo] = (dcx * dby - dcy * dbx).astype(F32)
-        ev[redo] = (dax * dcy - day * dcx).astype(F32)
-        ew[redo] = (dbx * day - dby * dax).astype(F32)
+        eu[redo] = to_float_keeping_sign(dcx * dby - dcy * dbx)
+        ev[redo] = to_float_keeping_sign(dax * dcy - day * dcx)
+        ew[redo] = to_float_keeping_sign(dbx * day - dby * dax)
     negative = (eu < 0) | (ev < 0) | (ew < 0)
     positive = (eu > 0) | (ev > 0) | (ew > 0)
     det = (eu + ev) + ew

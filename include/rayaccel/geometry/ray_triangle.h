@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <limits>
 
 #include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/hit.h"
@@ -70,6 +71,14 @@ inline bool clears_t_min(const PreparedRay& r, const ShearedTriangle& s, float e
   return t > r.t_min + t_error_bound(r, s, eu, ev, ew, inv_det) * t_unscale;
 }
 
+/// An edge function computed exactly in double, as a float of the same sign: a nonzero value too small for float
+/// becomes the smallest subnormal of its sign instead of a zero (which would put the ray on the edge).
+inline float edge_to_float(double e) {
+  const auto f = static_cast<float>(e);
+  if (f != 0.0f || e == 0.0) return f;
+  return e > 0.0 ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
+}
+
 /// Edge functions, sign test and distance of a sheared triangle; `t_unscale` undoes a power-of-two scaling of it.
 inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, float t_unscale,
                                        std::uint32_t prim_id, Hit& hit) {
@@ -77,10 +86,11 @@ inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriang
   float ev = s.ax * s.cy - s.ay * s.cx;
   float ew = s.bx * s.ay - s.by * s.ax;
   if (eu == 0.0f || ev == 0.0f || ew == 0.0f) {
-    // On an edge in single precision: decide in double, where these products are exact.
-    eu = static_cast<float>(double(s.cx) * double(s.by) - double(s.cy) * double(s.bx));
-    ev = static_cast<float>(double(s.ax) * double(s.cy) - double(s.ay) * double(s.cx));
-    ew = static_cast<float>(double(s.bx) * double(s.ay) - double(s.by) * double(s.ax));
+    // On an edge in single precision: decide in double, where these products are exact (and their differences
+    // keep the sign), without letting the conversion back to float round a nonzero value to zero.
+    eu = edge_to_float(double(s.cx) * double(s.by) - double(s.cy) * double(s.bx));
+    ev = edge_to_float(double(s.ax) * double(s.cy) - double(s.ay) * double(s.cx));
+    ew = edge_to_float(double(s.bx) * double(s.ay) - double(s.by) * double(s.ax));
   }
   if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return false;
   const float det = eu + ev + ew;
