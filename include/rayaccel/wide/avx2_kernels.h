@@ -54,14 +54,21 @@ struct BoxKernel8 {
     __m256 origin[3];
     __m256 inv_direction[3];
     __m256 t_min;
+    __m256 widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
     int near_offset[3];
     bool t_min_non_negative;  ///< then every entry distance is >= 0 and the widening needs no per-lane sign test
+    bool shifted;             ///< slab_shift != 0: the origin was moved off subnormal coordinates
   };
 
   __attribute__((target("avx2"))) static Packet prepare(const PreparedRay& r) {
     Packet p;
+    const BoxTestOrigin box_origin(r);
+    p.widen_down = _mm256_set1_ps(box_origin.widen_down);
+    p.widen_up = _mm256_set1_ps(box_origin.widen_up);
+    p.slab_shift = _mm256_set1_ps(box_origin.slab_shift);
+    p.shifted = box_origin.slab_shift != 0.0f;
     for (int a = 0; a < 3; ++a) {
-      p.origin[a] = _mm256_set1_ps(r.origin[a]);
+      p.origin[a] = _mm256_set1_ps(box_origin.origin[a]);
       p.inv_direction[a] = _mm256_set1_ps(r.inv_direction[a]);
       p.near_offset[a] = r.negative[a];
     }
@@ -93,8 +100,18 @@ struct BoxKernel8 {
       // t_near >= t_min >= 0 in every lane, so it widens by the non-negative factor; t_far widens by its own
       // non-negative factor too: where t_far < 0 either factor leaves it negative, below t_near, and the lane misses
       // as it would have (the same masks and entry distances as the general case, two dependent steps shorter).
-      t_near = _mm256_mul_ps(t_near, _mm256_set1_ps(kSlabWidenDown));
-      t_far = _mm256_mul_ps(t_far, _mm256_set1_ps(kSlabWidenUp));
+      t_near = _mm256_mul_ps(t_near, ray.widen_down);
+      t_far = _mm256_mul_ps(t_far, ray.widen_up);
+      if (ray.shifted) {
+        // The box origin is the ray's with subnormal coordinates set to 0 (BoxTestOrigin): the exact slab distances
+        // of the ray are those computed, moved by at most |s| <= slab_shift / 4. Why the result still encloses them,
+        // with c >= 0 the computed near distance, tau its exact value for the moved origin (c (1 - gamma3) <= tau,
+        // Ize's bound) and u = 2^-24: c * widen_down rounds to w <= tau - 8uc, so w - slab_shift rounds to at most
+        // tau - slab_shift (1 - u) <= tau - |s|. The far end is the mirror image; a far distance computed below 0
+        // that is exactly >= 0 is at most |s| (1 + 2 gamma3) below 0, and slab_shift >= 4|s| lifts it past.
+        t_near = _mm256_sub_ps(t_near, ray.slab_shift);
+        t_far = _mm256_add_ps(t_far, ray.slab_shift);
+      }
     } else {
       t_near = widen(t_near, kSlabWidenDown, kSlabWidenUp);
       t_far = widen(t_far, kSlabWidenUp, kSlabWidenDown);

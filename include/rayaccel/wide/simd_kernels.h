@@ -5,7 +5,10 @@
 
 #include <emmintrin.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
@@ -15,17 +18,58 @@
 
 namespace rayaccel::wide {
 
+/// The origin the wide box tests use, and the slack that makes up for it. A ray leaving an exact point on a plane at
+/// 0 (a floor at y = 0, say) starts a subnormal distance from it (pbrt-style origin offsets give 2^-149), and
+/// (plane - origin) * 1/d then computes with subnormals at every node, which costs a microcode assist per operation
+/// (teapot_stadium's secondary rays spent 14% of their time in one such multiply). Such a coordinate (0 < |o| <
+/// FLT_MIN, on an axis the ray is not parallel to) is replaced by 0 for the box tests only, which moves that axis's
+/// slab distances by s = o/d exactly; the interval is then widened by slab_shift >= 4|s| (and at least FLT_MIN, so the
+/// widening itself is normal arithmetic) on both ends, after the relative widening by the factors below, which are
+/// 8u looser than kSlabWiden* so the rounding of those additions is covered too (the bound is worked out in
+/// BoxKernel8::intersect). Only for rays with t_min >= 0 (the box kernels' short path); other rays keep their origin.
+struct BoxTestOrigin {
+  Vec3 origin;
+  float slab_shift = 0.0f;  ///< 0: the ray's own origin, nothing to add
+  float widen_down = kSlabWidenDown;
+  float widen_up = kSlabWidenUp;
+
+  explicit BoxTestOrigin(const PreparedRay& r) : origin(r.origin) {
+    if (!(r.t_min >= 0.0f)) return;
+    constexpr float kMinNormal = std::numeric_limits<float>::min();
+    float shift = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      const float o = r.origin[a];
+      if (o == 0.0f || !(std::fabs(o) < kMinNormal) || std::isinf(r.inv_direction[a])) continue;
+      origin[a] = 0.0f;
+      // 4 |o / d| <= 4 * FLT_MIN * |1/d| (1 + u): bounded through FLT_MIN, as multiplying o itself would be a
+      // subnormal operation too.
+      shift = std::max(shift, 0x1p-123f * std::fabs(r.inv_direction[a]));
+    }
+    if (origin == r.origin) return;
+    slab_shift = std::max(shift, kMinNormal);
+    widen_down = kSlabWidenDown - 0x1p-21f;
+    widen_up = kSlabWidenUp + 0x1p-21f;
+  }
+};
+
 /// Per-ray constants of the four-wide box test, splatted once per ray.
 struct RayPacket4 {
   __m128 origin[3];
   __m128 inv_direction[3];
   int near_offset[3];  ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
   __m128 t_min;
-  bool t_min_non_negative;  ///< see BoxKernel8::Packet
+  __m128 widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
+  bool t_min_non_negative;                  ///< see BoxKernel8::Packet
+  bool shifted;                             ///< slab_shift != 0
 
   explicit RayPacket4(const PreparedRay& r) {
+    const BoxTestOrigin box_origin(r);
+    widen_down = _mm_set1_ps(box_origin.widen_down);
+    widen_up = _mm_set1_ps(box_origin.widen_up);
+    slab_shift = _mm_set1_ps(box_origin.slab_shift);
+    shifted = box_origin.slab_shift != 0.0f;
     for (int a = 0; a < 3; ++a) {
-      origin[a] = _mm_set1_ps(r.origin[a]);
+      origin[a] = _mm_set1_ps(box_origin.origin[a]);
       inv_direction[a] = _mm_set1_ps(r.inv_direction[a]);
       near_offset[a] = r.negative[a];
     }
@@ -64,8 +108,12 @@ inline int intersect_boxes4(const RayPacket4& ray, const float (*bounds)[2][4], 
     t_far = _mm_min_ps(t1, t_far);
   }
   if (ray.t_min_non_negative) {  // as in BoxKernel8::intersect: the same result without the per-lane sign tests
-    t_near = _mm_mul_ps(t_near, _mm_set1_ps(kSlabWidenDown));
-    t_far = _mm_mul_ps(t_far, _mm_set1_ps(kSlabWidenUp));
+    t_near = _mm_mul_ps(t_near, ray.widen_down);
+    t_far = _mm_mul_ps(t_far, ray.widen_up);
+    if (ray.shifted) {
+      t_near = _mm_sub_ps(t_near, ray.slab_shift);
+      t_far = _mm_add_ps(t_far, ray.slab_shift);
+    }
   } else {
     t_near = widen_down(t_near);
     t_far = widen_up(t_far);
