@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """Summary tables of BENCHMARKS.md from the JSON that scripts/benchmarks.sh writes.
 
-Usage: scripts/bench_summary.py DIR   (reads DIR/threads1.json and DIR/threads2.json, prints Markdown)
+Usage: scripts/bench_summary.py DIR [DIR...]   (each DIR holds one run: threads1.json and threads2.json)
 
-Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree measured in the same run.
-Table 2: the spatial structures as slowdowns against the default bvh_wide (1 thread).
+Every ratio is taken within one run (a structure against Embree measured in the same process), then the median over
+the runs is printed, so one noisy run does not decide a cell.
+Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree; Embree's own figures are medians too.
+Table 2: the lowest and highest of the default structure's ratios over the runs (only with two or more runs).
+Table 3: the spatial structures as slowdowns against the default bvh_wide (1 thread).
 """
 import json
+import statistics
 import sys
 from pathlib import Path
 
@@ -25,51 +29,93 @@ def mrays(row, kind):
 
 
 def ratios_to_embree(row, embree):
-    """build / memory / P / D / S as ratios: < 1 is better for build and memory, > 1 for rays per second."""
+    """build, memory, P, D, S as ratios: < 1 is better for build and memory, > 1 for rays per second."""
     parts = [row["build_ms_median"] / embree["build_ms_median"], row["memory_bytes"] / embree["memory_bytes"]]
-    parts += [mrays(row, k) / mrays(embree, k) for k in KINDS]
-    return " / ".join(f"{x:.2f}" for x in parts)
+    return parts + [mrays(row, k) / mrays(embree, k) for k in KINDS]
 
 
 def embree_figures(embree):
-    mb = embree["memory_bytes"] / 2**20  # MiB, as rayaccel bench prints
-    speeds = " / ".join(f"{mrays(embree, k):.2f}" for k in KINDS)
-    return f"{embree['build_ms_median']:.0f} / {mb:.1f} / {speeds}"
+    """build ms, MiB (as rayaccel bench prints), P, D, S Mrays/s."""
+    return [embree["build_ms_median"], embree["memory_bytes"] / 2**20] + [mrays(embree, k) for k in KINDS]
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
-    directory = Path(sys.argv[1])
-    runs = []
+def slowdowns(rows):
+    best = rows[DEFAULT]
+    return [[mrays(best, k) / mrays(rows[spec], k) for k in KINDS] for spec in SPATIAL]
+
+
+def median_of(values):
+    """Elementwise median of equally shaped (nested) lists of numbers."""
+    if isinstance(values[0], list):
+        return [median_of([v[i] for v in values]) for i in range(len(values[0]))]
+    return statistics.median(values)
+
+
+def load(directory):
+    run = {}
     for threads in (1, 2):
         path = directory / f"threads{threads}.json"
         try:
-            runs.append((threads, json.loads(path.read_text())))
+            run[threads] = json.loads(path.read_text())
         except (OSError, json.JSONDecodeError) as error:
             sys.exit(f"bench_summary: cannot read {path}: {error}")
+    return run
 
+
+def joined(values, digits=2):
+    return " / ".join(f"{x:.{digits}f}" for x in values)
+
+
+def main():
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    runs = [load(Path(d)) for d in sys.argv[1:]]
+    # (threads, scene) -> per-run figures, in the first run's order.
+    keys = [(t, s["scene"]) for t in (1, 2) for s in runs[0][t]["scenes"]]
+    figures = {key: {"embree": [], "default": [], "no_presplit": [], "spatial": []} for key in keys}
+    for run in runs:
+        for threads in (1, 2):
+            for scene in run[threads]["scenes"]:
+                key = (threads, scene["scene"])
+                if key not in figures:
+                    sys.exit(f"bench_summary: scene {key[1]} is not in every run")
+                rows = rows_by_accel(scene)
+                embree = next(r for r in scene["results"] if r.get("is_embree"))
+                figures[key]["embree"].append(embree_figures(embree))
+                figures[key]["default"].append(ratios_to_embree(rows[DEFAULT], embree))
+                figures[key]["no_presplit"].append(ratios_to_embree(rows[NO_PRESPLIT], embree))
+                figures[key]["spatial"].append(slowdowns(rows))
+
+    print(f"Medians over {len(runs)} run(s).")
+    print()
     print(f"| scene | threads | Embree build ms / MB / Mrays/s P/D/S | {DEFAULT} build / memory / P / D / S "
           f"| {NO_PRESPLIT} build / memory / P / D / S |")
     print("|---|---|---|---|---|")
-    for threads, run in runs:
-        for scene in run["scenes"]:
-            rows = rows_by_accel(scene)
-            embree = next(r for r in scene["results"] if r.get("is_embree"))
-            print(f"| {scene['scene']} | {threads} | {embree_figures(embree)} "
-                  f"| {ratios_to_embree(rows[DEFAULT], embree)} | {ratios_to_embree(rows[NO_PRESPLIT], embree)} |")
+    for threads, scene in keys:
+        f = figures[(threads, scene)]
+        embree = median_of(f["embree"])
+        embree_text = f"{embree[0]:.0f} / {embree[1]:.1f} / {joined(embree[2:])}"
+        print(f"| {scene} | {threads} | {embree_text} | {joined(median_of(f['default']))} "
+              f"| {joined(median_of(f['no_presplit']))} |")
+
+    if len(runs) > 1:
+        print()
+        print(f"| scene | threads | {DEFAULT} lowest-highest over the runs: build / memory / P / D / S |")
+        print("|---|---|---|")
+        for threads, scene in keys:
+            per_run = figures[(threads, scene)]["default"]
+            spans = [f"{min(r[i] for r in per_run):.2f}-{max(r[i] for r in per_run):.2f}"
+                     for i in range(len(per_run[0]))]
+            print(f"| {scene} | {threads} | {' / '.join(spans)} |")
 
     print()
     print("| scene | " + " | ".join(f"{s} P / D / S" for s in SPATIAL) + " |")
     print("|---|" + "---|" * len(SPATIAL))
-    threads, run = runs[0]
-    for scene in run["scenes"]:
-        rows = rows_by_accel(scene)
-        best = rows[DEFAULT]
-        cells = []
-        for spec in SPATIAL:
-            cells.append(" / ".join(f"{mrays(best, k) / mrays(rows[spec], k):.2f}" for k in KINDS))
-        print(f"| {scene['scene']} | " + " | ".join(cells) + " |")
+    for threads, scene in keys:
+        if threads != 1:
+            continue
+        cells = median_of(figures[(threads, scene)]["spatial"])
+        print(f"| {scene} | " + " | ".join(joined(c) for c in cells) + " |")
 
 
 if __name__ == "__main__":
