@@ -1,5 +1,6 @@
-// Four-wide SSE kernels of the wide BVH: one ray against four child boxes (robust slab test, Ize 2013) and one ray
-// against four triangles (the watertight test of Woop, Benthin, Wald 2013, lane-for-lane the same float operations as
+// SIMD kernels of the wide BVH, written once over a set of lane operations (Sse4 here: four SSE2 lanes; Avx8 in
+// avx2_kernels.h): one ray against a node's child boxes (robust slab test, Ize 2013) and one ray against four or
+// eight triangles (the watertight test of Woop, Benthin, Wald 2013, lane-for-lane the same float operations as
 // geometry/ray_triangle.h, so results are bit-identical to the scalar kernel).
 #pragma once
 
@@ -17,6 +18,50 @@
 #include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
+
+/// Four triangles in SoA form: vertex[v][axis][lane]. Unused lanes hold prim kInvalidPrimId and a zero triangle
+/// (a point, which the watertight test never hits).
+struct alignas(16) Triangle4 {
+  float vertex[3][3][4];
+  std::uint32_t prim_id[4];
+};
+static_assert(sizeof(Triangle4) == 160, "Triangle4: 144 bytes of vertices + 16 bytes of ids");
+
+/// The SIMD operations the triangle test is written over, four lanes of SSE2 (every x86-64 CPU has it); the eight
+/// lane AVX2 set is in avx2_kernels.h. A test over W lanes reads W / 4 Triangle4 blocks.
+struct Sse4 {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  static F set1(float x) { return _mm_set1_ps(x); }
+  static F zero() { return _mm_setzero_ps(); }
+  static F all_ones() { return _mm_castsi128_ps(_mm_set1_epi32(-1)); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
+  static F min(F a, F b) { return _mm_min_ps(a, b); }
+  static F load(const float* p) { return _mm_load_ps(p); }  ///< 16-byte aligned
+  static F bit_and(F a, F b) { return _mm_and_ps(a, b); }
+  static F bit_or(F a, F b) { return _mm_or_ps(a, b); }
+  static F and_not(F a, F b) { return _mm_andnot_ps(a, b); }  ///< ~a & b
+  static F eq(F a, F b) { return _mm_cmpeq_ps(a, b); }
+  static F neq(F a, F b) { return _mm_cmpneq_ps(a, b); }
+  static F lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static F le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static F gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
+  static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }
+  static int movemask(F a) { return _mm_movemask_ps(a); }
+  static void store(float* p, F a) { _mm_storeu_ps(p, a); }
+  static F load_vertex(const Triangle4* const* blocks, int v, int axis) {
+    return _mm_load_ps(blocks[0]->vertex[v][axis]);
+  }
+  /// All-ones in lanes that hold no triangle.
+  static F padding(const Triangle4* const* blocks) {
+    const __m128i ids = _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id));
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(ids, _mm_set1_epi32(-1)));
+  }
+};
 
 /// The origin the wide box tests use, and the slack that makes up for it. A ray leaving an exact point on a plane at
 /// 0 (a floor at y = 0, say) starts a subnormal distance from it (pbrt-style origin offsets give 2^-149), and
@@ -52,131 +97,96 @@ struct BoxTestOrigin {
   }
 };
 
-/// Per-ray constants of the four-wide box test, splatted once per ray.
-struct RayPacket4 {
-  __m128 origin[3];
-  __m128 inv_direction[3];
-  int near_offset[3];  ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
-  __m128 t_min;
-  __m128 widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
-  bool t_min_non_negative;                  ///< see BoxKernel8::Packet
-  bool shifted;                             ///< slab_shift != 0
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+/// Per-ray constants of the box test over S's lanes (Sse4: four children, Avx8: eight), splatted once per ray. With
+/// eight lanes, used only inside AVX2 functions, as TrianglePacket below.
+template <class S>
+struct BoxPacket {
+  typename S::F origin[3];
+  typename S::F inv_direction[3];
+  typename S::F t_min;
+  typename S::F widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
+  int near_offset[3];       ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
+  bool t_min_non_negative;  ///< then every entry distance is >= 0 and the widening needs no per-lane sign test
+  bool shifted;             ///< slab_shift != 0: the origin was moved off subnormal coordinates
 
-  explicit RayPacket4(const PreparedRay& r) {
+  explicit BoxPacket(const PreparedRay& r) {
     const BoxTestOrigin box_origin(r);
-    widen_down = _mm_set1_ps(box_origin.widen_down);
-    widen_up = _mm_set1_ps(box_origin.widen_up);
-    slab_shift = _mm_set1_ps(box_origin.slab_shift);
-    shifted = box_origin.slab_shift != 0.0f;
     for (int a = 0; a < 3; ++a) {
-      origin[a] = _mm_set1_ps(box_origin.origin[a]);
-      inv_direction[a] = _mm_set1_ps(r.inv_direction[a]);
+      origin[a] = S::set1(box_origin.origin[a]);
+      inv_direction[a] = S::set1(r.inv_direction[a]);
       near_offset[a] = r.negative[a];
     }
-    t_min = _mm_set1_ps(r.t_min);
+    t_min = S::set1(r.t_min);
+    widen_down = S::set1(box_origin.widen_down);
+    widen_up = S::set1(box_origin.widen_up);
+    slab_shift = S::set1(box_origin.slab_shift);
     t_min_non_negative = r.t_min >= 0.0f;
+    shifted = box_origin.slab_shift != 0.0f;
   }
 };
 
-/// Moves each lane away from the interval's inside by 2*gamma(3): toward -inf (down) or +inf (up). Monotone, so it
-/// may be applied after the max/min reductions instead of to every slab distance.
-inline __m128 widen_down(__m128 t) {
-  const __m128 non_negative = _mm_cmpge_ps(t, _mm_setzero_ps());
-  const __m128 factor = _mm_or_ps(_mm_and_ps(non_negative, _mm_set1_ps(kSlabWidenDown)),
-                                  _mm_andnot_ps(non_negative, _mm_set1_ps(kSlabWidenUp)));
-  return _mm_mul_ps(t, factor);
-}
-inline __m128 widen_up(__m128 t) {
-  const __m128 non_negative = _mm_cmpge_ps(t, _mm_setzero_ps());
-  const __m128 factor = _mm_or_ps(_mm_and_ps(non_negative, _mm_set1_ps(kSlabWidenUp)),
-                                  _mm_andnot_ps(non_negative, _mm_set1_ps(kSlabWidenDown)));
-  return _mm_mul_ps(t, factor);
-}
+/// One ray against the S::kWidth child boxes of a node (robust slab test, Ize 2013), in the form the width-generic
+/// traversal calls: returns the lane mask of the boxes whose clipped interval meets [t_min, t_far], entry distances
+/// to t_entry. max/min return their second operand when either is NaN, so the running bound goes second and a NaN
+/// slab distance (ray in a face plane) constrains nothing, as in clip_ray_to_box().
+template <class S>
+struct BoxKernel {
+  static constexpr int kWidth = S::kWidth;
+  using Lanes = S;  ///< lanes of the leaf test used with this node width
+  using Packet = BoxPacket<S>;
+  using F = typename S::F;
 
-/// Tests four boxes given as bounds[axis][0 = lo, 1 = hi][lane]. Returns the lane mask of boxes whose clipped
-/// interval meets [t_min, t_far]; t_entry receives the entry distances. _mm_max_ps/_mm_min_ps return their second
-/// operand when either is NaN, so the running bound goes second and a NaN slab distance (ray in a face plane)
-/// constrains nothing, as in clip_ray_to_box().
-inline int intersect_boxes4(const RayPacket4& ray, const float (*bounds)[2][4], __m128 t_far, __m128& t_entry) {
-  __m128 t_near = ray.t_min;
-  for (int a = 0; a < 3; ++a) {
-    const __m128 near_plane = _mm_load_ps(bounds[a][ray.near_offset[a]]);
-    const __m128 far_plane = _mm_load_ps(bounds[a][1 - ray.near_offset[a]]);
-    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near_plane, ray.origin[a]), ray.inv_direction[a]);
-    const __m128 t1 = _mm_mul_ps(_mm_sub_ps(far_plane, ray.origin[a]), ray.inv_direction[a]);
-    t_near = _mm_max_ps(t0, t_near);
-    t_far = _mm_min_ps(t1, t_far);
+  static Packet prepare(const PreparedRay& r) { return Packet(r); }
+
+  /// Moves each lane away from the interval's inside by 2*gamma(3): by `non_negative_factor` where t >= 0, by
+  /// `negative_factor` elsewhere. Monotone, so it may follow the max/min reductions instead of each slab distance.
+  /// In place: a function returning an AVX value from code built without AVX would change the ABI (-Wpsabi).
+  static void widen(F& t, float non_negative_factor, float negative_factor) {
+    const F non_negative = S::ge(t, S::zero());
+    t = S::mul(t, S::bit_or(S::bit_and(non_negative, S::set1(non_negative_factor)),
+                            S::and_not(non_negative, S::set1(negative_factor))));
   }
-  if (ray.t_min_non_negative) {  // as in BoxKernel8::intersect: the same result without the per-lane sign tests
-    t_near = _mm_mul_ps(t_near, ray.widen_down);
-    t_far = _mm_mul_ps(t_far, ray.widen_up);
-    if (ray.shifted) {
-      t_near = _mm_sub_ps(t_near, ray.slab_shift);
-      t_far = _mm_add_ps(t_far, ray.slab_shift);
+
+  static int intersect(const Packet& ray, const Node<kWidth>& node, float t_far_scalar, float* t_entry) {
+    F t_near = ray.t_min;
+    F t_far = S::set1(t_far_scalar);
+    for (int a = 0; a < 3; ++a) {
+      const F near_plane = S::load(node.bounds[a][ray.near_offset[a]]);
+      const F far_plane = S::load(node.bounds[a][1 - ray.near_offset[a]]);
+      const F t0 = S::mul(S::sub(near_plane, ray.origin[a]), ray.inv_direction[a]);
+      const F t1 = S::mul(S::sub(far_plane, ray.origin[a]), ray.inv_direction[a]);
+      t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound (second operand)
+      t_far = S::min(t1, t_far);
     }
-  } else {
-    t_near = widen_down(t_near);
-    t_far = widen_up(t_far);
-  }
-  t_entry = t_near;
-  return _mm_movemask_ps(_mm_cmple_ps(t_near, t_far));
-}
-
-/// The four-wide box test in the form the width-generic traversal calls (see BoxKernel8 for eight).
-struct BoxKernel4 {
-  static constexpr int kWidth = 4;
-  using Lanes = struct Sse4;  ///< lanes of the leaf test used with this node width
-  using Packet = RayPacket4;
-  static Packet prepare(const PreparedRay& r) { return RayPacket4(r); }
-  static int intersect(const Packet& ray, const Node<4>& node, float t_far, float* t_entry) {
-    __m128 entry;
-    const int mask = intersect_boxes4(ray, node.bounds, _mm_set1_ps(t_far), entry);
-    _mm_store_ps(t_entry, entry);
-    return mask;
-  }
-};
-
-/// Four triangles in SoA form: vertex[v][axis][lane]. Unused lanes hold prim kInvalidPrimId and a zero triangle
-/// (a point, which the watertight test never hits).
-struct alignas(16) Triangle4 {
-  float vertex[3][3][4];
-  std::uint32_t prim_id[4];
-};
-static_assert(sizeof(Triangle4) == 160, "Triangle4: 144 bytes of vertices + 16 bytes of ids");
-
-/// The SIMD operations the triangle test is written over, four lanes of SSE2 (every x86-64 CPU has it); the eight
-/// lane AVX2 set is in avx2_kernels.h. A test over W lanes reads W / 4 Triangle4 blocks.
-struct Sse4 {
-  static constexpr int kWidth = 4;
-  using F = __m128;
-  static F set1(float x) { return _mm_set1_ps(x); }
-  static F zero() { return _mm_setzero_ps(); }
-  static F all_ones() { return _mm_castsi128_ps(_mm_set1_epi32(-1)); }
-  static F add(F a, F b) { return _mm_add_ps(a, b); }
-  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
-  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
-  static F div(F a, F b) { return _mm_div_ps(a, b); }
-  static F max(F a, F b) { return _mm_max_ps(a, b); }
-  static F bit_and(F a, F b) { return _mm_and_ps(a, b); }
-  static F bit_or(F a, F b) { return _mm_or_ps(a, b); }
-  static F and_not(F a, F b) { return _mm_andnot_ps(a, b); }  ///< ~a & b
-  static F eq(F a, F b) { return _mm_cmpeq_ps(a, b); }
-  static F neq(F a, F b) { return _mm_cmpneq_ps(a, b); }
-  static F lt(F a, F b) { return _mm_cmplt_ps(a, b); }
-  static F le(F a, F b) { return _mm_cmple_ps(a, b); }
-  static F gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
-  static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }
-  static int movemask(F a) { return _mm_movemask_ps(a); }
-  static void store(float* p, F a) { _mm_storeu_ps(p, a); }
-  static F load_vertex(const Triangle4* const* blocks, int v, int axis) {
-    return _mm_load_ps(blocks[0]->vertex[v][axis]);
-  }
-  /// All-ones in lanes that hold no triangle.
-  static F padding(const Triangle4* const* blocks) {
-    const __m128i ids = _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id));
-    return _mm_castsi128_ps(_mm_cmpeq_epi32(ids, _mm_set1_epi32(-1)));
+    if (ray.t_min_non_negative) {
+      // t_near >= t_min >= 0 in every lane, so it widens by the non-negative factor; t_far widens by its own
+      // non-negative factor too: where t_far < 0 either factor leaves it negative, below t_near, and the lane misses
+      // as it would have (the same masks and entry distances as the general case, two dependent steps shorter).
+      t_near = S::mul(t_near, ray.widen_down);
+      t_far = S::mul(t_far, ray.widen_up);
+      if (ray.shifted) {
+        // The box origin is the ray's with subnormal coordinates set to 0 (BoxTestOrigin): the exact slab distances
+        // of the ray are those computed, moved by at most |s| <= slab_shift / 4. Why the result still encloses them,
+        // with c >= 0 the computed near distance, tau its exact value for the moved origin (c (1 - gamma3) <= tau,
+        // Ize's bound) and u = 2^-24: c * widen_down rounds to w <= tau - 8uc, so w - slab_shift rounds to at most
+        // tau - slab_shift (1 - u) <= tau - |s|. The far end is the mirror image; a far distance computed below 0
+        // that is exactly >= 0 is at most |s| (1 + 2 gamma3) below 0, and slab_shift >= 4|s| lifts it past.
+        t_near = S::sub(t_near, ray.slab_shift);
+        t_far = S::add(t_far, ray.slab_shift);
+      }
+    } else {
+      widen(t_near, kSlabWidenDown, kSlabWidenUp);
+      widen(t_far, kSlabWidenUp, kSlabWidenDown);
+    }
+    S::store(t_entry, t_near);
+    return S::movemask(S::le(t_near, t_far));
   }
 };
+#pragma GCC diagnostic pop
+
+using BoxKernel4 = BoxKernel<Sse4>;
 
 /// Per-ray constants of the triangle test over S's lanes: the origin and shear in the ray's (kx, ky, kz) frame.
 /// With eight lanes, the packet and the test below are only used inside AVX2 functions (WideBvh::trace_avx2 inlines
