@@ -381,7 +381,7 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
          "triangle pre-splitting (Karras & Aila 2013): extra references as a fraction of the triangle count, 0..4; 0 "
          "turns it off",
          {}}},
-       {"bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0"},
+       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0"},
        [](const Options& options) {
          WideBvhConfig config;
          const std::string& width = options.get("width");
