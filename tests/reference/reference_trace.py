@@ -4,8 +4,8 @@
 Follows Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection" (JCGT 2(1), 2013): the ray's dominant axis
 becomes z, the triangle is sheared so the ray runs along +z through the origin, and the three 2D edge functions
 decide the hit. Every step is float32 arithmetic in numpy with the operation order of the C++ kernel (no fused
-multiply-add), edge functions that come out exactly zero are recomputed in float64 (where the products are exact)
-and rounded back (a nonzero value keeping its sign), the hit rule is t_min < t <= t_max with t clearing t_min by
+multiply-add), edge functions that come out exactly zero are recomputed in float64 from the vertices (origin offsets,
+shear and products) and rounded back (a nonzero value keeping its sign), the hit rule is t_min < t <= t_max with t clearing t_min by
 more than its rounding-error bound (pbrt-v3 section 3.9.6), and of equal t the lowest triangle index wins. The
 output is meant to be byte-identical to `rayaccel trace --accel brute_force`.
 
@@ -145,8 +145,16 @@ def trace_ray(mesh, ray):
     ew = bx * ay - by * ax
     redo = (eu == 0) | (ev == 0) | (ew == 0)
     if np.any(redo):
-        d = [np.asarray(a[redo], dtype=np.float64) for a in (ax, ay, bx, by, cx, cy)]
-        dax, day, dbx, dby, dcx, dcy = d
+        # In float64 from the vertices: origin offsets and shear without float rounding or underflow.
+        o64 = origin.astype(np.float64)
+
+        def sheared64(c):
+            z = mesh.v[c][kz][redo].astype(np.float64) - o64[kz]
+            x = (mesh.v[c][kx][redo].astype(np.float64) - o64[kx]) - np.float64(sx) * z
+            y = (mesh.v[c][ky][redo].astype(np.float64) - o64[ky]) - np.float64(sy) * z
+            return x, y
+
+        (dax, day), (dbx, dby), (dcx, dcy) = sheared64(0), sheared64(1), sheared64(2)
         eu[redo] = to_float_keeping_sign(dcx * dby - dcy * dbx)
         ev[redo] = to_float_keeping_sign(dax * dcy - day * dcx)
         ew[redo] = to_float_keeping_sign(dbx * day - dby * dax)

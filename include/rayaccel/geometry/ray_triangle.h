@@ -1,6 +1,8 @@
 // Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)).
 // Edge functions are computed in a ray-sheared space; a shared edge yields exactly negated values in its two
 // triangles, so a ray through an edge or vertex of a closed mesh hits at least one triangle. No back-face culling.
+// An edge function that is exactly zero in float is decided again in double from the vertices (Woop et al. fall
+// back to double too; computing the shear in double as well keeps underflow near 0 from making false hits).
 // Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and
 // tiny scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
 // A hit counts only when its computed t exceeds t_min by more than the rounding error bound of t (Pharr, Jakob,
@@ -9,6 +11,7 @@
 // (exactly conservative) rules out, so structures would disagree with brute force on secondary rays.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
@@ -79,18 +82,46 @@ inline float edge_to_float(double e) {
   return e > 0.0 ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
 }
 
+/// The edge functions (u, v, w: opposite vertex 0, 1, 2) of triangle (v0, v1, v2) for ray r, with the origin offsets
+/// and the shear computed in double from the float inputs: the float kernel's ray (its shear constants), without the
+/// rounding and underflow of the float coordinates. Each vertex's coordinates are computed the same way in every
+/// triangle that shares it, so a shared edge still gives exactly negated values (watertight).
+inline std::array<double, 3> edge_functions_in_double(const PreparedRay& r, const Vec3& v0, const Vec3& v1,
+                                                      const Vec3& v2) {
+  double x[3], y[3];
+  const Vec3* vertices[3] = {&v0, &v1, &v2};
+  for (int i = 0; i < 3; ++i) {
+    const Vec3& v = *vertices[i];
+    const double z = double(v[r.kz]) - double(r.origin[r.kz]);
+    x[i] = (double(v[r.kx]) - double(r.origin[r.kx])) - double(r.shear_x) * z;
+    y[i] = (double(v[r.ky]) - double(r.origin[r.ky])) - double(r.shear_y) * z;
+  }
+  return {x[2] * y[1] - y[2] * x[1], x[0] * y[2] - y[0] * x[2], x[1] * y[0] - y[1] * x[0]};
+}
+
+/// The triangle in world space, for edges that float cannot decide, and the factor (a power of two squared) that
+/// brings its double edge functions to the scale of the sheared float triangle.
+struct TriangleForEdges {
+  const Vec3& v0;
+  const Vec3& v1;
+  const Vec3& v2;
+  double edge_scale = 1.0;
+};
+
 /// Edge functions, sign test and distance of a sheared triangle; `t_unscale` undoes a power-of-two scaling of it.
 inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, float t_unscale,
-                                       std::uint32_t prim_id, Hit& hit) {
+                                       const TriangleForEdges& world, std::uint32_t prim_id, Hit& hit) {
   float eu = s.cx * s.by - s.cy * s.bx;
   float ev = s.ax * s.cy - s.ay * s.cx;
   float ew = s.bx * s.ay - s.by * s.ax;
   if (eu == 0.0f || ev == 0.0f || ew == 0.0f) {
-    // On an edge in single precision: decide in double, where these products are exact (and their differences
-    // keep the sign), without letting the conversion back to float round a nonzero value to zero.
-    eu = edge_to_float(double(s.cx) * double(s.by) - double(s.cy) * double(s.bx));
-    ev = edge_to_float(double(s.ax) * double(s.cy) - double(s.ay) * double(s.cx));
-    ew = edge_to_float(double(s.bx) * double(s.ay) - double(s.by) * double(s.ax));
+    // On an edge in single precision: decide in double, from the vertices (the float sheared coordinates may have
+    // rounded or underflowed: a ray 1e-45 from an edge near 0), without letting the conversion back to float round
+    // a nonzero value to zero.
+    const std::array<double, 3> e = edge_functions_in_double(r, world.v0, world.v1, world.v2);
+    eu = edge_to_float(e[0] * world.edge_scale);
+    ev = edge_to_float(e[1] * world.edge_scale);
+    ew = edge_to_float(e[2] * world.edge_scale);
   }
   if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return false;
   const float det = eu + ev + ew;
@@ -111,13 +142,15 @@ inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriang
 }
 
 /// Scales a sheared triangle whose coordinates leave the safe range by a power of two (exact) and tests it.
-inline bool intersect_rescaled_triangle(const PreparedRay& r, ShearedTriangle s, std::uint32_t prim_id, Hit& hit) {
+inline bool intersect_rescaled_triangle(const PreparedRay& r, ShearedTriangle s, const TriangleForEdges& world,
+                                        std::uint32_t prim_id, Hit& hit) {
   const float m = max_magnitude(s);
   if (!(m > 0.0f) || !std::isfinite(m)) return false;  // a point at the origin, or NaN/Inf coordinates
   const int exponent = std::ilogb(m);
   const float scale = std::ldexp(1.0f, -exponent);
   for (float* v : {&s.ax, &s.ay, &s.az, &s.bx, &s.by, &s.bz, &s.cx, &s.cy, &s.cz}) *v *= scale;
-  return intersect_sheared_triangle(r, s, std::ldexp(1.0f, exponent), prim_id, hit);
+  const TriangleForEdges scaled{world.v0, world.v1, world.v2, std::ldexp(1.0, -2 * exponent)};
+  return intersect_sheared_triangle(r, s, std::ldexp(1.0f, exponent), scaled, prim_id, hit);
 }
 
 /// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t (t clearing t_min by its error bound),
@@ -131,8 +164,9 @@ inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3&
   const ShearedTriangle s{a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
                           b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
                           c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
-  if (in_safe_range(s)) return intersect_sheared_triangle(r, s, 1.0f, prim_id, hit);
-  return intersect_rescaled_triangle(r, s, prim_id, hit);
+  const TriangleForEdges world{v0, v1, v2};
+  if (in_safe_range(s)) return intersect_sheared_triangle(r, s, 1.0f, world, prim_id, hit);
+  return intersect_rescaled_triangle(r, s, world, prim_id, hit);
 }
 
 }  // namespace rayaccel
