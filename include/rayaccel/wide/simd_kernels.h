@@ -71,7 +71,7 @@ struct Sse4 {
 /// slab distances by s = o/d exactly; the interval is then widened by slab_shift >= 4|s| (and at least FLT_MIN, so the
 /// widening itself is normal arithmetic) on both ends, after the relative widening by the factors below, which are
 /// 8u looser than kSlabWiden* so the rounding of those additions is covered too (the bound is worked out in
-/// BoxKernel8::intersect). Only for rays with t_min >= 0 (the box kernels' short path); other rays keep their origin.
+/// BoxKernel::intersect). Only for rays with t_min >= 0 (the box kernels' short path); other rays keep their origin.
 struct BoxTestOrigin {
   Vec3 origin;
   float slab_shift = 0.0f;  ///< 0: the ray's own origin, nothing to add
@@ -82,15 +82,17 @@ struct BoxTestOrigin {
     if (!(r.t_min >= 0.0f)) return;
     constexpr float kMinNormal = std::numeric_limits<float>::min();
     float shift = 0.0f;
+    bool moved = false;
     for (int a = 0; a < 3; ++a) {
       const float o = r.origin[a];
       if (o == 0.0f || !(std::fabs(o) < kMinNormal) || std::isinf(r.inv_direction[a])) continue;
       origin[a] = 0.0f;
+      moved = true;
       // 4 |o / d| <= 4 * FLT_MIN * |1/d| (1 + u): bounded through FLT_MIN, as multiplying o itself would be a
       // subnormal operation too.
       shift = std::max(shift, 0x1p-123f * std::fabs(r.inv_direction[a]));
     }
-    if (origin == r.origin) return;
+    if (!moved) return;
     slab_shift = std::max(shift, kMinNormal);
     widen_down = kSlabWidenDown - 0x1p-21f;
     widen_up = kSlabWidenUp + 0x1p-21f;

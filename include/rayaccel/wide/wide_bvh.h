@@ -3,7 +3,8 @@
 // bounding volume hierarchies"), child boxes stored SoA so one SIMD test covers every child, and leaves of Triangle4
 // blocks tested four at a time with the watertight kernel (other primitive kinds: the same tree, leaves tested one by
 // one). Width 8 uses AVX2 and is chosen at run time only when the CPU has it (the same kernels compiled for AVX-512
-// where the CPU has that: EVEX encoding and 32 vector registers); width 4 uses SSE2, which every x86-64 CPU has. Closest-hit traversal visits children near-first; any-hit stops at the first hit.
+// where the CPU has that: EVEX encoding and 32 vector registers); width 4 uses SSE2, which every x86-64 CPU has.
+// Closest-hit traversal visits children near-first; any-hit stops at the first hit.
 #pragma once
 
 #include <cstdint>
@@ -65,8 +66,6 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// primitive from several leaves (each with the box of its part); a primitive repeated within one leaf is kept once.
   void build_from(const Scene& scene, const BuildTree& tree);
   int width() const { return width_; }
-  /// True when the eight-wide kernels run in their AVX-512 build (see WideIsa).
-  bool uses_avx512() const { return avx512_; }
   std::size_t memory_bytes() const override;
   std::vector<BuildStatistic> build_statistics() const override;
   std::vector<std::string> validate() const override;
