@@ -4,8 +4,9 @@
 Follows Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection" (JCGT 2(1), 2013): the ray's dominant axis
 becomes z, the triangle is sheared so the ray runs along +z through the origin, and the three 2D edge functions
 decide the hit. Every step is float32 arithmetic in numpy with the operation order of the C++ kernel (no fused
-multiply-add), edge functions that come out exactly zero are recomputed in float64 from the vertices (origin offsets,
-shear and products) and rounded back (a nonzero value keeping its sign), the hit rule is t_min < t <= t_max with t clearing t_min by
+multiply-add), an edge function that comes out exactly zero (in a triangle whose other edge functions do not already
+have opposite signs) is recomputed in float64 from the vertices (origin offsets, shear and products) and rounded back
+(a nonzero value keeping its sign), the hit rule is t_min < t <= t_max with t clearing t_min by
 more than its rounding-error bound (pbrt-v3 section 3.9.6), and of equal t the lowest triangle index wins. The
 output is meant to be byte-identical to `rayaccel trace --accel brute_force`.
 
@@ -143,7 +144,10 @@ def trace_ray(mesh, ray):
     eu = cx * by - cy * bx
     ev = ax * cy - ay * cx
     ew = bx * ay - by * ax
-    redo = (eu == 0) | (ev == 0) | (ew == 0)
+    # Nonzero edge functions of opposite signs are a miss whatever the others; otherwise each edge that is exactly
+    # zero is decided again in float64 (only that edge).
+    mixed = ((eu < 0) | (ev < 0) | (ew < 0)) & ((eu > 0) | (ev > 0) | (ew > 0))
+    redo = ((eu == 0) | (ev == 0) | (ew == 0)) & ~mixed
     if np.any(redo):
         # In float64 from the vertices: origin offsets and shear without float rounding or underflow.
         o64 = origin.astype(np.float64)
@@ -155,9 +159,9 @@ def trace_ray(mesh, ray):
             return x, y
 
         (dax, day), (dbx, dby), (dcx, dcy) = sheared64(0), sheared64(1), sheared64(2)
-        eu[redo] = to_float_keeping_sign(dcx * dby - dcy * dbx)
-        ev[redo] = to_float_keeping_sign(dax * dcy - day * dcx)
-        ew[redo] = to_float_keeping_sign(dbx * day - dby * dax)
+        for e, exact in ((eu, dcx * dby - dcy * dbx), (ev, dax * dcy - day * dcx), (ew, dbx * day - dby * dax)):
+            zero = e[redo] == 0
+            e[np.nonzero(redo)[0][zero]] = to_float_keeping_sign(exact[zero])
     negative = (eu < 0) | (ev < 0) | (ew < 0)
     positive = (eu > 0) | (ev > 0) | (ew > 0)
     det = (eu + ev) + ew

@@ -2,7 +2,10 @@
 // Edge functions are computed in a ray-sheared space; a shared edge yields exactly negated values in its two
 // triangles, so a ray through an edge or vertex of a closed mesh hits at least one triangle. No back-face culling.
 // An edge function that is exactly zero in float is decided again in double from the vertices (Woop et al. fall
-// back to double too; computing the shear in double as well keeps underflow near 0 from making false hits).
+// back to double too; computing the shear in double as well keeps underflow near 0 from making false hits). Only that
+// edge is recomputed: a nonzero float edge function has the exact sign of its products' difference (rounding is
+// monotone, so the two products cannot swap order), so each edge's sign is a function of the edge and the ray alone,
+// the same in both triangles that share it, and nonzero float edges of opposite signs are a miss whatever the others.
 // Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and
 // tiny scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
 // A hit counts only when its computed t exceeds t_min by more than the rounding error bound of t (Pharr, Jakob,
@@ -108,22 +111,31 @@ struct TriangleForEdges {
   double edge_scale = 1.0;
 };
 
+/// The three edge functions of a sheared triangle in float (u, v, w: opposite vertex a, b, c).
+struct EdgeFunctions {
+  float u, v, w;
+  explicit EdgeFunctions(const ShearedTriangle& s)
+      : u(s.cx * s.by - s.cy * s.bx), v(s.ax * s.cy - s.ay * s.cx), w(s.bx * s.ay - s.by * s.ax) {}
+  /// Some edge function below zero and another above it (NaN counts as neither): the ray misses.
+  bool mixed_signs() const { return (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f); }
+};
+
 /// Edge functions, sign test and distance of a sheared triangle; `t_unscale` undoes a power-of-two scaling of it.
 inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, float t_unscale,
                                        const TriangleForEdges& world, std::uint32_t prim_id, Hit& hit) {
-  float eu = s.cx * s.by - s.cy * s.bx;
-  float ev = s.ax * s.cy - s.ay * s.cx;
-  float ew = s.bx * s.ay - s.by * s.ax;
-  if (eu == 0.0f || ev == 0.0f || ew == 0.0f) {
-    // On an edge in single precision: decide in double, from the vertices (the float sheared coordinates may have
-    // rounded or underflowed: a ray 1e-45 from an edge near 0), without letting the conversion back to float round
-    // a nonzero value to zero.
-    const std::array<double, 3> e = edge_functions_in_double(r, world.v0, world.v1, world.v2);
-    eu = edge_to_float(e[0] * world.edge_scale);
-    ev = edge_to_float(e[1] * world.edge_scale);
-    ew = edge_to_float(e[2] * world.edge_scale);
+  EdgeFunctions e(s);
+  if (e.mixed_signs()) return false;
+  if (e.u == 0.0f || e.v == 0.0f || e.w == 0.0f) {
+    // On an edge in single precision: decide that edge (only that one) in double, from the vertices (the float
+    // sheared coordinates may have rounded or underflowed: a ray 1e-45 from an edge near 0), without letting the
+    // conversion back to float round a nonzero value to zero.
+    const std::array<double, 3> exact = edge_functions_in_double(r, world.v0, world.v1, world.v2);
+    if (e.u == 0.0f) e.u = edge_to_float(exact[0] * world.edge_scale);
+    if (e.v == 0.0f) e.v = edge_to_float(exact[1] * world.edge_scale);
+    if (e.w == 0.0f) e.w = edge_to_float(exact[2] * world.edge_scale);
+    if (e.mixed_signs()) return false;
   }
-  if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return false;
+  const float eu = e.u, ev = e.v, ew = e.w;
   const float det = eu + ev + ew;
   if (det == 0.0f) return false;
   const float az = r.shear_z * s.az;
@@ -164,6 +176,9 @@ inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3&
   const ShearedTriangle s{a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
                           b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
                           c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
+  // Float edge functions of opposite signs are a miss in any range: overflow keeps the sign (inf - finite), and
+  // underflow can only turn a sign into zero. The rest is decided in the safe range, rescaled if need be.
+  if (EdgeFunctions(s).mixed_signs()) return false;
   const TriangleForEdges world{v0, v1, v2};
   if (in_safe_range(s)) return intersect_sheared_triangle(r, s, 1.0f, world, prim_id, hit);
   return intersect_rescaled_triangle(r, s, world, prim_id, hit);

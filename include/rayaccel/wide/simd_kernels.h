@@ -232,6 +232,13 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
   const F ew = S::sub(S::mul(px[1], py[0]), S::mul(py[1], px[0]));
   const F zero = S::zero();
   const F padding = S::padding(blocks);
+  // Most tested triangles are missed, with edge functions of opposite signs, which decides them in any range and
+  // whatever an edge function of zero would be decided as (see ray_triangle.h): leave before anything else when no
+  // lane is left. min and max return one of their operands, so a lane found mixed here has a negative and a positive
+  // edge function; lanes with NaN this may miss are rejected below (det or t NaN) or by the scalar kernel.
+  const F mixed_signs = S::bit_and(S::lt(S::min(eu, S::min(ev, ew)), zero), S::gt(S::max(eu, S::max(ev, ew)), zero));
+  const F decided = S::bit_or(mixed_signs, padding);
+  if (S::movemask(decided) == (1 << W) - 1) return false;
   // Largest magnitudes of the x, y and (unsheared) z coordinates: the safe-range test and the bound on t's error.
   const F sign_bit = S::set1(-0.0f);
   F max_x = S::and_not(sign_bit, px[0]), max_y = S::and_not(sign_bit, py[0]), max_z = S::and_not(sign_bit, pz[0]);
@@ -241,17 +248,12 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
   }
   const F magnitude = S::max(max_x, S::max(max_y, max_z));
-  // Lanes the float kernel cannot decide alone: an edge function of exactly zero (double-precision fallback) or
-  // coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
+  // Undecided lanes the float kernel cannot finish alone: an edge function of exactly zero (double-precision
+  // fallback) or coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
   const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
   const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
   const F unsafe = S::and_not(safe, S::all_ones());
-  const int on_edge = S::movemask(S::and_not(padding, S::bit_or(on_edge_lanes, unsafe)));
-  const F any_negative = S::bit_or(S::bit_or(S::lt(eu, zero), S::lt(ev, zero)), S::lt(ew, zero));
-  const F any_positive = S::bit_or(S::bit_or(S::gt(eu, zero), S::gt(ev, zero)), S::gt(ew, zero));
-  // Most tested triangles are missed: leave before the depth and the division when no lane can be hit.
-  const F mixed_signs = S::bit_and(any_negative, any_positive);
-  if ((S::movemask(S::and_not(S::bit_or(mixed_signs, padding), S::all_ones())) | on_edge) == 0) return false;
+  const int on_edge = S::movemask(S::and_not(decided, S::bit_or(on_edge_lanes, unsafe)));
   const F det = S::add(S::add(eu, ev), ew);
   const F az = S::mul(ray.shear_z, pz[0]);
   const F bz = S::mul(ray.shear_z, pz[1]);
