@@ -208,7 +208,7 @@ class BspBuilder {
 
 BspTreeData build_bsp_tree(const Scene& scene, const BspTreeOptions& options) {
   BspTreeData out;
-  const std::vector<PrimRef> prim_refs = scene.build_references();
+  const PrimRefs prim_refs = scene.build_references();
   for (const PrimRef& r : prim_refs) out.bounds.extend(r.bounds);
   const std::size_t n = prim_refs.size();
   out.max_depth = split_tree_depth_limit(options.max_depth, n);

@@ -72,7 +72,7 @@ void for_each_node(const KdTreeData& data, F&& f) {
 void KdTree::build(const Scene& scene) {
   const auto start = std::chrono::steady_clock::now();
   scene_ = &scene;
-  const std::vector<PrimRef> refs = scene.build_references();
+  const PrimRefs refs = scene.build_references();
   const ClipToCell clip = scene_clipper(scene);
   KdTreeOptions o = options_;
   if (scene.kind() != PrimitiveKind::triangles) o.block_size = 1;  // tested one by one

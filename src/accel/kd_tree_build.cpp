@@ -47,7 +47,7 @@ class MedianBuilder {
   MedianBuilder(const KdTreeOptions& options, const ClipToCell& clip, int max_depth)
       : options_(options), clip_(clip), max_depth_(max_depth) {}
 
-  void build(KdTreeData& out, std::vector<PrimRef> refs, const AABB& cell, int depth) {
+  void build(KdTreeData& out, PrimRefs refs, const AABB& cell, int depth) {
     const std::uint32_t node = reserve_node(out);
     const int axis = depth % 3;
     const std::size_t n = refs.size();
@@ -60,7 +60,7 @@ class MedianBuilder {
       split = centroids[n / 2];
       can_split = split > cell.lo[axis] && split < cell.hi[axis];
     }
-    std::vector<PrimRef> below, above;
+    PrimRefs below, above;
     if (can_split) {
       for (const PrimRef& r : refs) {
         if (r.bounds.lo[axis] <= split) add_clipped(below, r.prim_id, child_cell(cell, axis, split, false));
@@ -83,7 +83,7 @@ class MedianBuilder {
   }
 
  private:
-  void add_clipped(std::vector<PrimRef>& side, std::uint32_t prim, const AABB& cell) const {
+  void add_clipped(PrimRefs& side, std::uint32_t prim, const AABB& cell) const {
     const AABB b = clip_(prim, cell);
     if (!b.is_empty()) side.push_back({b, prim});
   }
@@ -271,7 +271,7 @@ KdTreeData build_kd_tree_median(std::span<const PrimRef> refs, const KdTreeOptio
   out.bounds = root_cell(refs);
   if (refs.empty()) return out;
   MedianBuilder builder(options, clip, kd_tree_max_depth(options, refs.size()));
-  builder.build(out, std::vector<PrimRef>(refs.begin(), refs.end()), out.bounds, 0);
+  builder.build(out, PrimRefs(refs.begin(), refs.end()), out.bounds, 0);
   return out;
 }
 

@@ -42,7 +42,7 @@ TwoLevelGrid::TwoLevelGrid(TwoLevelGridOptions options) : options_(options) { ch
 
 void TwoLevelGrid::build(const Scene& scene) {
   scene_ = &scene;
-  const std::vector<PrimRef> refs = scene.build_references();
+  const PrimRefs refs = scene.build_references();
   prim_count_ = refs.size();
   exact_used_ = options_.exact && scene.kind() == PrimitiveKind::triangles;
   top_cells_.clear();
@@ -74,7 +74,7 @@ void TwoLevelGrid::build(const Scene& scene) {
       const int x = int(c % std::uint32_t(top_.res[0]));
       const int y = int((c / std::uint32_t(top_.res[0])) % std::uint32_t(top_.res[1]));
       const int z = int(c / (std::uint32_t(top_.res[0]) * std::uint32_t(top_.res[1])));
-      std::vector<PrimRef> cell_refs;
+      PrimRefs cell_refs;
       AABB content;
       for (std::uint32_t k = top_lists.offsets[c]; k < top_lists.offsets[c + 1]; ++k) {
         const std::uint32_t id = top_lists.ids[k];

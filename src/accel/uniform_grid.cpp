@@ -30,7 +30,7 @@ UniformGrid::UniformGrid(UniformGridOptions options) : options_(options) { check
 
 void UniformGrid::build(const Scene& scene) {
   scene_ = &scene;
-  const std::vector<PrimRef> refs = scene.build_references();
+  const PrimRefs refs = scene.build_references();
   prim_count_ = refs.size();
   exact_used_ = options_.exact && scene.kind() == PrimitiveKind::triangles;
   lists_ = {};

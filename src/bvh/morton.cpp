@@ -25,7 +25,7 @@ std::uint64_t spread_bits(std::uint64_t v) {
 
 }  // namespace
 
-std::vector<std::uint64_t> sort_by_morton_code(std::vector<PrimRef>& refs) {
+std::vector<std::uint64_t> sort_by_morton_code(PrimRefs& refs) {
   const AABB centroids = centroid_bounds_of(refs);
   const Vec3 extent = centroids.extent();
   constexpr float kCells = 2097151.0f;  // 2^21 - 1
@@ -49,7 +49,7 @@ std::vector<std::uint64_t> sort_by_morton_code(std::vector<PrimRef>& refs) {
   tbb::parallel_sort(keys.begin(), keys.end(), [](const Keyed& a, const Keyed& b) {
     return a.code < b.code || (a.code == b.code && a.prim_id < b.prim_id);
   });
-  std::vector<PrimRef> sorted(refs.size());
+  PrimRefs sorted(refs.size());
   std::vector<std::uint64_t> codes(refs.size());
   tbb::parallel_for(std::size_t{0}, refs.size(), [&](std::size_t i) {
     sorted[i] = refs[keys[i].index];

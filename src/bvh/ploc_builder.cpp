@@ -20,7 +20,7 @@ struct Cluster {
 };
 
 /// Nodes are created children-first, so each cluster's index is above its children's.
-std::vector<Cluster> cluster(const std::vector<PrimRef>& refs, std::uint32_t radius) {
+std::vector<Cluster> cluster(const PrimRefs& refs, std::uint32_t radius) {
   std::vector<Cluster> nodes(refs.size());
   for (std::uint32_t i = 0; i < refs.size(); ++i) nodes[i] = {refs[i].bounds, i, 0, 1, true, false};
   std::vector<std::uint32_t> active(refs.size());
@@ -85,7 +85,7 @@ void mark_collapsed(std::vector<Cluster>& nodes, const PlocConfig& config) {
 
 class Emitter {
  public:
-  Emitter(const std::vector<Cluster>& nodes, const std::vector<PrimRef>& refs, BuildTree& tree,
+  Emitter(const std::vector<Cluster>& nodes, const PrimRefs& refs, BuildTree& tree,
           std::uint32_t max_leaf_size)
       : nodes_(nodes), refs_(refs), tree_(tree), max_leaf_size_(max_leaf_size) {}
 
@@ -121,14 +121,14 @@ class Emitter {
   }
 
   const std::vector<Cluster>& nodes_;
-  const std::vector<PrimRef>& refs_;
+  const PrimRefs& refs_;
   BuildTree& tree_;
   std::uint32_t max_leaf_size_;
 };
 
 }  // namespace
 
-BuildTree build_ploc(std::vector<PrimRef> refs, const PlocConfig& config) {
+BuildTree build_ploc(PrimRefs refs, const PlocConfig& config) {
   BuildTree tree;
   if (refs.empty()) return tree;
   sort_by_morton_code(refs);

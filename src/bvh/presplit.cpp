@@ -146,7 +146,7 @@ std::uint32_t split_box(const std::array<Vec3, 3>& t, AABB box, std::uint32_t pi
 PresplitResult presplit_references(const Scene& scene, const PresplitConfig& config) {
   PresplitResult result;
   result.refs = scene.build_references();
-  std::vector<PrimRef>& refs = result.refs;
+  PrimRefs& refs = result.refs;
   const std::size_t n = refs.size();
   if (scene.kind() != PrimitiveKind::triangles || !(config.fraction > 0.0f) || n == 0) return result;
   const auto budget = static_cast<std::uint64_t>(std::floor(double(config.fraction) * double(n)));
@@ -157,7 +157,7 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   const double exponent =
       config.priority_exponent == 1.0f / 3.0f ? 1.0 / 3.0 : static_cast<double>(config.priority_exponent);
   // The deterministic reduction adds in the same order on every run, so beta and the tree do not vary.
-  std::vector<double> prio(n);
+  UninitializedHugePageVector<double> prio(n);  // written below, in parallel
   const double total = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, n, 1024), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
@@ -199,7 +199,7 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   const double beta = beta_lo;
 
   // First output slot of each triangle: exclusive prefix sum of its planned piece count.
-  std::vector<std::uint64_t> first(n + 1, 0);
+  UninitializedHugePageVector<std::uint64_t> first(n + 1);  // every entry written by the scan
   tbb::parallel_scan(
       tbb::blocked_range<std::size_t>(0, n), std::uint64_t{0},
       [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t sum, bool is_final) {
@@ -213,8 +213,8 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
       std::plus<>());
 
   // Split; a triangle may make fewer pieces than planned, its unused slots are marked with an empty box.
-  std::vector<PrimRef> pieces(first[n]);
-  std::vector<std::uint32_t> made(n);
+  PrimRefs pieces(first[n]);
+  UninitializedHugePageVector<std::uint32_t> made(n);  // every entry written by the split loop
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const auto planned = static_cast<std::uint32_t>(first[i + 1] - first[i]);

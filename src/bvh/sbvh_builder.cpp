@@ -29,7 +29,7 @@ class SbvhBuilder {
   SbvhBuilder(const Scene& scene, const SbvhConfig& config) : scene_(scene), config_(config) {}
 
   BuildTree run() {
-    std::vector<PrimRef> refs = scene_.build_references();
+    PrimRefs refs = scene_.build_references();
     tree_.spatial_splits = scene_.kind() == PrimitiveKind::triangles;
     if (refs.empty()) return std::move(tree_);
     root_area_ = bounds_of(refs).surface_area();
@@ -41,14 +41,14 @@ class SbvhBuilder {
   }
 
  private:
-  void make_leaf(std::uint32_t node, const std::vector<PrimRef>& refs) {
+  void make_leaf(std::uint32_t node, const PrimRefs& refs) {
     tree_.nodes[node] = {static_cast<std::uint32_t>(tree_.refs.size()), static_cast<std::uint32_t>(refs.size())};
     tree_.refs.insert(tree_.refs.end(), refs.begin(), refs.end());
   }
 
-  void build(std::uint32_t node, std::vector<PrimRef>& refs, int depth) {
+  void build(std::uint32_t node, PrimRefs& refs, int depth) {
     const std::size_t n = refs.size();
-    std::vector<PrimRef> left, right;
+    PrimRefs left, right;
     if (n == 1 || depth >= kBvhMedianDepth) {
       if (n <= config_.max_leaf_size) return make_leaf(node, refs);
       median(refs, left, right);
@@ -76,7 +76,7 @@ class SbvhBuilder {
         }
       }
     }
-    std::vector<PrimRef>().swap(refs);  // release before descending: peak memory stays near the final size
+    PrimRefs().swap(refs);  // release before descending: peak memory stays near the final size
     const auto child = static_cast<std::uint32_t>(tree_.nodes.size());
     tree_.nodes.resize(tree_.nodes.size() + 2);
     tree_.nodes[node] = {child, 0};
@@ -84,7 +84,7 @@ class SbvhBuilder {
     build(child + 1, right, depth + 1);
   }
 
-  static void median(std::vector<PrimRef>& refs, std::vector<PrimRef>& left, std::vector<PrimRef>& right) {
+  static void median(PrimRefs& refs, PrimRefs& left, PrimRefs& right) {
     const auto k = static_cast<std::ptrdiff_t>(split_at_median(refs));
     left.assign(refs.begin(), refs.begin() + k);
     right.assign(refs.begin() + k, refs.end());
@@ -100,7 +100,7 @@ class SbvhBuilder {
     return clip_triangle_to_box(t[0], t[1], t[2], slab);
   }
 
-  SpatialSplit find_spatial_split(const std::vector<PrimRef>& refs, const AABB& bounds) const {
+  SpatialSplit find_spatial_split(const PrimRefs& refs, const AABB& bounds) const {
     SpatialSplit best;
     const std::uint32_t bins = config_.bin_count;
     for (int axis = 0; axis < 3; ++axis) {
@@ -166,8 +166,8 @@ class SbvhBuilder {
 
   /// Distributes refs by the plane, clipping the ones that cross it. False (nothing changed) when a side would be
   /// empty, which rounding can cause.
-  bool split_spatially(const std::vector<PrimRef>& refs, const SpatialSplit& split, std::vector<PrimRef>& left,
-                       std::vector<PrimRef>& right) {
+  bool split_spatially(const PrimRefs& refs, const SpatialSplit& split, PrimRefs& left,
+                       PrimRefs& right) {
     const int axis = split.axis;
     const float inf = std::numeric_limits<float>::infinity();
     for (const PrimRef& r : refs) {

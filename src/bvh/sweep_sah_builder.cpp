@@ -49,7 +49,7 @@ std::size_t sweep_split(std::span<PrimRef> refs, const SweepSahConfig& config) {
 
 }  // namespace
 
-BuildTree build_sweep_sah(std::vector<PrimRef> refs, const SweepSahConfig& config) {
+BuildTree build_sweep_sah(PrimRefs refs, const SweepSahConfig& config) {
   const TopDownLimits limits{config.max_leaf_size, config.parallel_threshold};
   return build_top_down(std::move(refs), limits,
                         [&](std::uint32_t, std::span<PrimRef> node_refs) { return sweep_split(node_refs, config); });

@@ -120,8 +120,8 @@ void Scene::finish_bounds() {
   }
 }
 
-std::vector<PrimRef> Scene::build_references() const {
-  std::vector<PrimRef> refs;
+PrimRefs Scene::build_references() const {
+  PrimRefs refs;
   refs.reserve(prim_bounds_.size() - invalid_count_ - degenerate_count_);
   for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
     if (!prim_bounds_[i].is_empty()) refs.push_back({prim_bounds_[i], i});

@@ -34,8 +34,8 @@ AABB child_bounds(const Node<W>& node, int lane) {
 }
 
 /// Boxes of every binary node; BuildTree stores children after their parent, so one backward pass suffices.
-std::vector<AABB> binary_node_bounds(const BuildTree& tree) {
-  std::vector<AABB> boxes(tree.nodes.size());
+HugePageVector<AABB> binary_node_bounds(const BuildTree& tree) {
+  HugePageVector<AABB> boxes(tree.nodes.size());
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     const BuildNode& n = tree.nodes[i];
     if (n.is_leaf()) {

@@ -41,15 +41,15 @@ int check_tree(const BuildTree& tree, std::uint32_t ref_count, std::uint32_t max
   return depth;
 }
 
-std::vector<PrimRef> identical_boxes(std::uint32_t n) {
-  std::vector<PrimRef> refs;
+PrimRefs identical_boxes(std::uint32_t n) {
+  PrimRefs refs;
   for (std::uint32_t i = 0; i < n; ++i) refs.push_back({AABB({0, 0, 0}, {1, 1, 1}), i});
   return refs;
 }
 
 /// Boxes at 2^-i along x: the SAH peels one off per level, so without a limit the tree is as deep as the input.
-std::vector<PrimRef> geometric_boxes(std::uint32_t n) {
-  std::vector<PrimRef> refs;
+PrimRefs geometric_boxes(std::uint32_t n) {
+  PrimRefs refs;
   float x = 1.0f;
   for (std::uint32_t i = 0; i < n; ++i, x *= 0.5f) refs.push_back({AABB({x, 0, 0}, {x * 1.5f, x, x}), i});
   return refs;

@@ -110,7 +110,7 @@ TEST(Presplit, ZeroBudgetIsNoOp) {
   const Scene scene = diagonal_scene(300, 9);
   for (float fraction : {0.0f, -1.0f, 0.001f}) {  // 0.001 * 300 rounds down to no extra reference
     const PresplitResult result = presplit_references(scene, {.fraction = fraction});
-    const std::vector<PrimRef> plain = scene.build_references();
+    const PrimRefs plain = scene.build_references();
     ASSERT_EQ(result.refs.size(), plain.size());
     for (std::size_t i = 0; i < plain.size(); ++i) {
       EXPECT_EQ(result.refs[i].prim_id, plain[i].prim_id);

@@ -39,7 +39,7 @@ TEST(Scene, InvalidPrimitivesKeepTheirIdButLeaveBoundsAndBuilds) {
   EXPECT_TRUE(s.primitive_bounds(1).is_empty());
   // Degenerate triangles (2: collinear, 5: a point) leave bounds and builds too.
   EXPECT_EQ(s.bounds(), AABB(Vec3{0, 0, 0}, Vec3{1, 1, 5}));
-  const std::vector<PrimRef> refs = s.build_references();
+  const PrimRefs refs = s.build_references();
   ASSERT_EQ(refs.size(), 2u);
   const std::uint32_t expected_ids[] = {0, 3};
   for (std::size_t i = 0; i < refs.size(); ++i) {

@@ -20,7 +20,7 @@ struct BinnedSahConfig {
 };
 
 /// Builds from references (boxes and ids only). Throws Error for a bin_count outside 2..64.
-BuildTree build_binned_sah(std::vector<PrimRef> refs, const BinnedSahConfig& config);
+BuildTree build_binned_sah(PrimRefs refs, const BinnedSahConfig& config);
 
 }  // namespace rayaccel
 

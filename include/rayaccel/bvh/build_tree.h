@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rayaccel/core/aabb.h"
+#include "rayaccel/core/huge_page_allocator.h"
 #include "rayaccel/core/primitives.h"
 
 namespace rayaccel {
@@ -36,8 +37,8 @@ struct BuildNode {
 
 /// A builder's output. Every builder keeps the references of any subtree contiguous in `refs`.
 struct BuildTree {
-  std::vector<BuildNode> nodes;  ///< nodes[0] is the root; empty when there are no references
-  std::vector<PrimRef> refs;     ///< references in leaf order
+  HugePageVector<BuildNode> nodes;  ///< nodes[0] is the root; empty when there are no references
+  PrimRefs refs;     ///< references in leaf order
   /// True when `refs` may hold one primitive several times, each with the clipped bounds of its part (SBVH).
   bool spatial_splits = false;
 };

@@ -15,6 +15,6 @@ struct LbvhConfig {
   std::uint32_t parallel_threshold = 4096;  ///< subtrees of at least this many references are built as parallel tasks
 };
 
-BuildTree build_lbvh(std::vector<PrimRef> refs, const LbvhConfig& config);
+BuildTree build_lbvh(PrimRefs refs, const LbvhConfig& config);
 
 }  // namespace rayaccel

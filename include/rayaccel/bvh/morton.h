@@ -11,6 +11,6 @@ namespace rayaccel {
 
 /// Sorts refs by the 63-bit Morton code of their centroid (21 bits per axis, quantized in the centroid bounds; ties
 /// by primitive id) and returns the codes in the new order. Parallel (TBB).
-std::vector<std::uint64_t> sort_by_morton_code(std::vector<PrimRef>& refs);
+std::vector<std::uint64_t> sort_by_morton_code(PrimRefs& refs);
 
 }  // namespace rayaccel

@@ -16,6 +16,6 @@ struct PlocConfig {
   std::uint32_t search_radius = 16; ///< neighbours searched on each side in Morton order (the paper's r)
 };
 
-BuildTree build_ploc(std::vector<PrimRef> refs, const PlocConfig& config);
+BuildTree build_ploc(PrimRefs refs, const PlocConfig& config);
 
 }  // namespace rayaccel

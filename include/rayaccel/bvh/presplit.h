@@ -40,7 +40,7 @@ struct PresplitConfig {
 };
 
 struct PresplitResult {
-  std::vector<PrimRef> refs;           ///< pieces (and unsplit triangles), grouped by triangle in id order
+  PrimRefs refs;           ///< pieces (and unsplit triangles), grouped by triangle in id order
   std::uint32_t split_triangles = 0;   ///< triangles cut into two or more pieces
 };
 

@@ -15,6 +15,6 @@ struct SweepSahConfig {
   std::uint32_t parallel_threshold = 4096;  ///< subtrees of at least this many references are built as parallel tasks
 };
 
-BuildTree build_sweep_sah(std::vector<PrimRef> refs, const SweepSahConfig& config);
+BuildTree build_sweep_sah(PrimRefs refs, const SweepSahConfig& config);
 
 }  // namespace rayaccel

@@ -25,7 +25,7 @@ struct TopDownLimits {
 /// kBvhMedianDepth only median splits are made, so the tree never exceeds kBvhMaxDepth levels. `split` is called
 /// concurrently on disjoint ranges.
 template <class SplitFn>
-BuildTree build_top_down(std::vector<PrimRef> refs, const TopDownLimits& limits, SplitFn&& split) {
+BuildTree build_top_down(PrimRefs refs, const TopDownLimits& limits, SplitFn&& split) {
   BuildTree tree;
   tree.refs = std::move(refs);
   const auto n = static_cast<std::uint32_t>(tree.refs.size());

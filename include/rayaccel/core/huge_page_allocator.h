@@ -10,6 +10,7 @@
 #include <new>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -76,5 +77,11 @@ struct UninitializedHugePageAllocator : HugePageAllocator<T> {
     }
   }
 };
+
+/// Vectors over the two allocators, for the large arrays of structures and of their builds.
+template <class T>
+using HugePageVector = std::vector<T, HugePageAllocator<T>>;
+template <class T>
+using UninitializedHugePageVector = std::vector<T, UninitializedHugePageAllocator<T>>;
 
 }  // namespace rayaccel

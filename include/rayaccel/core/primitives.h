@@ -9,6 +9,7 @@
 
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/hit.h"
+#include "rayaccel/core/huge_page_allocator.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/core/vec3.h"
 
@@ -41,5 +42,10 @@ struct PrimRef {
   std::uint32_t prim_id = 0;
   Vec3 centroid() const { return bounds.center(); }
 };
+
+/// The references a build works on. Scenes of millions of triangles make arrays of tens of MB, so they live on
+/// transparent huge pages (HugePageAllocator): filling them then takes one page fault per 2 MiB instead of per 4 KiB
+/// (measured: 4 KiB faults were a third of a dragon build's pre-splitting and did not get faster with threads).
+using PrimRefs = HugePageVector<PrimRef>;
 
 }  // namespace rayaccel

@@ -53,7 +53,7 @@ class Scene {
   const AABB& primitive_bounds(std::uint32_t id) const { return prim_bounds_[id]; }
   Vec3 primitive_centroid(std::uint32_t id) const { return prim_bounds_[id].center(); }
   /// One reference per valid primitive, in id order: the input of every builder.
-  std::vector<PrimRef> build_references() const;
+  PrimRefs build_references() const;
 
   /// Points whose convex hull encloses the primitive, for fitting bounding volumes: a triangle's 3 vertices, else
   /// the 8 corners of its box. Returns how many were written to `out`.

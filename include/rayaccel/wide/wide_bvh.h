@@ -122,13 +122,13 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::vector<Triangle4, UninitializedHugePageAllocator<Triangle4>> blocks_;  ///< every lane written by fill_leaves
   std::uint32_t block_count_ = 0;  ///< build-time only: blocks reserved by emit_leaf, allocated after emit
   std::uint32_t root_ = kEmptyChild;
-  std::vector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
+  HugePageVector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
   struct PendingLeaf {
     std::uint32_t first_id, id_count;  ///< the leaf's primitives: pending_ids_[first_id .. first_id + id_count)
     std::uint32_t first_block;
   };
-  std::vector<PendingLeaf> pending_leaves_;  ///< build-time only: leaves whose blocks fill_leaves() writes
-  std::vector<std::uint32_t> pending_ids_;   ///< build-time only: primitives of the pending leaves
+  HugePageVector<PendingLeaf> pending_leaves_;  ///< build-time only: leaves whose blocks fill_leaves() writes
+  HugePageVector<std::uint32_t> pending_ids_;  ///< build-time only: primitives of the pending leaves
   std::vector<std::uint8_t> coincident_;     ///< build-time only: triangles with coincident vertices (never hit)
   int depth_ = 0;
   std::uint32_t skipped_degenerate_ = 0;
