@@ -145,12 +145,14 @@ std::uint32_t split_box(const std::array<Vec3, 3>& t, AABB box, std::uint32_t pi
 
 PresplitResult presplit_references(const Scene& scene, const PresplitConfig& config) {
   PresplitResult result;
-  result.refs = scene.build_references();
+  const bool splits = scene.kind() == PrimitiveKind::triangles && config.fraction > 0.0f;
+  const std::size_t valid = scene.valid_count();
+  const auto budget = splits ? static_cast<std::uint64_t>(std::floor(double(config.fraction) * double(valid))) : 0;
+  // Room for every extra piece: they are appended, and the references of unsplit triangles are never moved.
+  result.refs = scene.build_references(budget);
   PrimRefs& refs = result.refs;
   const std::size_t n = refs.size();
-  if (scene.kind() != PrimitiveKind::triangles || !(config.fraction > 0.0f) || n == 0) return result;
-  const auto budget = static_cast<std::uint64_t>(std::floor(double(config.fraction) * double(n)));
-  if (budget == 0) return result;
+  if (budget == 0 || n == 0) return result;
   const PlaneGrid grid(scene.bounds());
 
   // Priorities and their sum. The exponent 1/3 (the default) is taken as exactly a cube root.
@@ -175,13 +177,13 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   // get a piece, usually a small part of them: the bisection runs over those alone.
   auto extra_for = [](double beta, double p) { return static_cast<std::uint64_t>(std::floor(beta * p)); };
   double beta_lo = double(budget) / total, beta_hi = double(budget + n) / total;
-  std::vector<double> candidates;
-  for (const double p : prio) {
-    if (beta_hi * p >= 1.0) candidates.push_back(p);
+  std::vector<std::uint32_t> candidates;  // indices of the triangles that can get a piece
+  for (std::size_t i = 0; i < n; ++i) {
+    if (beta_hi * prio[i] >= 1.0) candidates.push_back(static_cast<std::uint32_t>(i));
   }
   auto extra_total = [&](double beta) {
     std::uint64_t sum = 0;
-    for (const double p : candidates) sum += extra_for(beta, p);
+    for (const std::uint32_t i : candidates) sum += extra_for(beta, prio[i]);
     return sum;
   };
   std::uint64_t extra_lo = extra_total(beta_lo);
@@ -198,45 +200,37 @@ PresplitResult presplit_references(const Scene& scene, const PresplitConfig& con
   }
   const double beta = beta_lo;
 
-  // First output slot of each triangle: exclusive prefix sum of its planned piece count.
-  UninitializedHugePageVector<std::uint64_t> first(n + 1);  // every entry written by the scan
-  tbb::parallel_scan(
-      tbb::blocked_range<std::size_t>(0, n), std::uint64_t{0},
-      [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t sum, bool is_final) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          if (is_final) first[i] = sum;
-          sum += 1 + extra_for(beta, prio[i]);
-        }
-        if (is_final && r.end() == n) first[n] = sum;
-        return sum;
-      },
-      std::plus<>());
-
-  // Split; a triangle may make fewer pieces than planned, its unused slots are marked with an empty box.
-  PrimRefs pieces(first[n]);
-  UninitializedHugePageVector<std::uint32_t> made(n);  // every entry written by the split loop
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const auto planned = static_cast<std::uint32_t>(first[i + 1] - first[i]);
-      PrimRef* out = pieces.data() + first[i];
-      if (planned == 1) {
-        out[0] = refs[i];
-        made[i] = 1;
-        continue;
-      }
-      made[i] = split_box(scene.triangle(refs[i].prim_id), refs[i].bounds, planned, grid, out, 0, refs[i].prim_id);
-      for (std::uint32_t k = made[i]; k < planned; ++k) out[k] = {AABB::empty(), refs[i].prim_id};
-    }
-  });
+  // Only candidates can be split. Each split triangle keeps its first piece in its own slot; the others go to the
+  // slots after the n references, at its place in the order of candidates (an exclusive prefix sum of extras).
+  std::vector<std::uint64_t> first_extra(candidates.size() + 1, 0);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    first_extra[k + 1] = first_extra[k] + extra_for(beta, prio[candidates[k]]);
+  }
+  refs.resize(n + first_extra.back());  // within the reserved capacity: the n references stay where they are
+  const std::size_t block = 64;
   result.split_triangles = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n), std::uint32_t{0},
-      [&](const tbb::blocked_range<std::size_t>& r, std::uint32_t sum) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) sum += made[i] > 1 ? 1 : 0;
-        return sum;
+      tbb::blocked_range<std::size_t>(0, candidates.size(), block), std::uint32_t{0},
+      [&](const tbb::blocked_range<std::size_t>& r, std::uint32_t split_count) {
+        std::vector<PrimRef> pieces;
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+          const std::size_t i = candidates[k];
+          const auto extra = static_cast<std::uint32_t>(first_extra[k + 1] - first_extra[k]);
+          if (extra == 0) continue;
+          pieces.resize(extra + 1);
+          const std::uint32_t made = split_box(scene.triangle(refs[i].prim_id), refs[i].bounds, extra + 1, grid,
+                                               pieces.data(), 0, refs[i].prim_id);
+          // A triangle may make fewer pieces than planned: its unused slots get an empty box, removed below.
+          refs[i] = pieces[0];
+          PrimRef* out = refs.data() + n + first_extra[k];
+          for (std::uint32_t p = 1; p <= extra; ++p) out[p - 1] = p < made ? pieces[p] : PrimRef{AABB::empty(), 0};
+          split_count += made > 1 ? 1 : 0;
+        }
+        return split_count;
       },
       std::plus<>());
-  std::erase_if(pieces, [](const PrimRef& ref) { return ref.bounds.is_empty(); });
-  refs = std::move(pieces);
+  const auto tail = std::remove_if(refs.begin() + static_cast<std::ptrdiff_t>(n), refs.end(),
+                                   [](const PrimRef& ref) { return ref.bounds.is_empty(); });
+  refs.erase(tail, refs.end());
   return result;
 }
 

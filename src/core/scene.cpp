@@ -120,9 +120,9 @@ void Scene::finish_bounds() {
   }
 }
 
-PrimRefs Scene::build_references() const {
+PrimRefs Scene::build_references(std::size_t extra_capacity) const {
   PrimRefs refs;
-  refs.reserve(prim_bounds_.size() - invalid_count_ - degenerate_count_);
+  refs.reserve(prim_bounds_.size() - invalid_count_ - degenerate_count_ + extra_capacity);
   for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
     if (!prim_bounds_[i].is_empty()) refs.push_back({prim_bounds_[i], i});
   }

@@ -40,7 +40,7 @@ struct PresplitConfig {
 };
 
 struct PresplitResult {
-  PrimRefs refs;           ///< pieces (and unsplit triangles), grouped by triangle in id order
+  PrimRefs refs;  ///< one per valid triangle in id order (its first piece if split), then the further pieces
   std::uint32_t split_triangles = 0;   ///< triangles cut into two or more pieces
 };
 

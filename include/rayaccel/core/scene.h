@@ -53,7 +53,9 @@ class Scene {
   const AABB& primitive_bounds(std::uint32_t id) const { return prim_bounds_[id]; }
   Vec3 primitive_centroid(std::uint32_t id) const { return prim_bounds_[id].center(); }
   /// One reference per valid primitive, in id order: the input of every builder.
-  PrimRefs build_references() const;
+  /// One reference per valid primitive, in id order. `extra_capacity` more references fit without reallocation (for
+  /// a caller that appends, as pre-splitting does).
+  PrimRefs build_references(std::size_t extra_capacity = 0) const;
 
   /// Points whose convex hull encloses the primitive, for fitting bounding volumes: a triangle's 3 vertices, else
   /// the 8 corners of its box. Returns how many were written to `out`.
