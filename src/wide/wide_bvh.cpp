@@ -221,13 +221,16 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   pending_leaves_.clear();
   pending_ids_.clear();
   pending_ids_.reserve(tree.refs.size());
-  // Room for the nodes without regrowing: about one wide node per W - 1 binary interior nodes (the vector still
-  // grows if a tree needs more). Leaf blocks are counted during the collapse and allocated once after it.
-  const std::size_t interior = tree.nodes.size() / 2;
+  // Room for the nodes without regrowing: every wide node takes at least one binary interior node, so their count
+  // bounds it. Full eight-wide nodes would need a seventh of that, but the shared scenes need 1/3.5 to 1/3.3 (many
+  // children are leaves, which are not opened), so the old estimate of a seventh always regrew, copying the whole
+  // array into fresh pages. Capacity that is never written is never given pages.
+  // Leaf blocks are counted during the collapse and allocated once after it.
+  const std::size_t interior = tree.nodes.size() / 2 + 1;
   if (width_ == 8) {
-    nodes8_.reserve(interior / 7 + 16);
+    nodes8_.reserve(interior);
   } else {
-    nodes4_.reserve(interior / 3 + 16);
+    nodes4_.reserve(interior);
   }
   if (tree.nodes.empty()) {
     root_ = kEmptyChild;
