@@ -6,6 +6,11 @@
 // edge is recomputed: a nonzero float edge function has the exact sign of its products' difference (rounding is
 // monotone, so the two products cannot swap order), so each edge's sign is a function of the edge and the ray alone,
 // the same in both triangles that share it, and nonzero float edges of opposite signs are a miss whatever the others.
+// Why no ray slips between triangles: nonzero float signs are exact for one set of sheared vertex positions, shared by
+// every triangle; a ray exactly on one edge line (zero) lies between the two triangles beside that edge, and either
+// decision puts it in one of them; a ray on two edge lines is at their common vertex, where every edge through it is
+// zero and all are decided in the one double frame. (Recomputing all three edges when one is zero, as before, could
+// decide an edge in double in one triangle and in float in its neighbour.)
 // Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and
 // tiny scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
 // A hit counts only when its computed t exceeds t_min by more than the rounding error bound of t (Pharr, Jakob,
