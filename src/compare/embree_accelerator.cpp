@@ -60,11 +60,9 @@ void to_embree(const Ray& ray, RTCRay& out) {
   out.flags = 0;
 }
 
-/// Rays that can hold no hit under t_min < t <= t_max: void rays (PreparedRay's rule) and empty intervals.
-bool cannot_hit(const Ray& ray) {
-  const PreparedRay prepared(ray);
-  return prepared.is_void() || !(prepared.t_min < prepared.t_max);
-}
+/// Rays that can hold no hit under t_min < t <= t_max: void rays (PreparedRay's rule, without PreparedRay's divisions,
+/// which would be charged to Embree's time) and empty intervals.
+bool cannot_hit(const Ray& ray) { return !is_valid_ray(ray) || !(ray.t_min < ray.t_max); }
 
 }  // namespace
 

@@ -43,8 +43,13 @@ TEST(PreparedRay, BadRaysAreVoid) {
   for (const Ray& ray : bad) {
     const PreparedRay r(ray);
     EXPECT_TRUE(r.is_void());
+    EXPECT_FALSE(is_valid_ray(ray)) << "the cheap check (used by the Embree wrapper) follows the same rule";
     EXPECT_EQ(r.t_min, kInf);
     EXPECT_EQ(r.t_max, -kInf);
+  }
+  for (const Ray& ray : {Ray{o, 0.0f, d, kInf}, Ray{o, 2.0f, d, 2.0f}, Ray{o, -kInf, {0, 0, -1e-30f}, kInf}}) {
+    EXPECT_TRUE(is_valid_ray(ray));
+    EXPECT_FALSE(PreparedRay(ray).is_void());
   }
 }
 

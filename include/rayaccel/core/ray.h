@@ -20,6 +20,14 @@ struct Ray {
 };
 static_assert(sizeof(Ray) == 32, "Ray is the 32-byte record of the .rays file");
 
+/// False for a "void" ray (see PreparedRay): a NaN or infinite origin or direction component, a zero direction, a
+/// NaN t bound, or t_max < t_min. Cheap (no division), for code that only needs to reject such rays.
+inline bool is_valid_ray(const Ray& ray) {
+  const Vec3& d = ray.direction;
+  return is_finite(ray.origin) && is_finite(d) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) &&
+         !std::isnan(ray.t_min) && !std::isnan(ray.t_max) && ray.t_min <= ray.t_max;
+}
+
 /// Per-ray constants shared by every kernel. A ray with a NaN or infinite origin or direction component, a zero
 /// direction, a NaN t bound, or t_max < t_min is "void": its interval is empty (t_min = +inf, t_max = -inf) and
 /// every test rejects it, so bad rays never produce a hit.
@@ -38,9 +46,7 @@ struct PreparedRay {
 
   explicit PreparedRay(const Ray& ray) : origin(ray.origin), direction(ray.direction) {
     const Vec3& d = direction;
-    const bool valid = is_finite(origin) && is_finite(d) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) &&
-                       !std::isnan(ray.t_min) && !std::isnan(ray.t_max) && ray.t_min <= ray.t_max;
-    if (valid) {
+    if (is_valid_ray(ray)) {
       t_min = ray.t_min;
       t_max = ray.t_max;
     } else {
