@@ -38,7 +38,7 @@ struct BuildNode {
 /// A builder's output. Every builder keeps the references of any subtree contiguous in `refs`.
 struct BuildTree {
   HugePageVector<BuildNode> nodes;  ///< nodes[0] is the root; empty when there are no references
-  PrimRefs refs;     ///< references in leaf order
+  PrimRefs refs;                    ///< references in leaf order
   /// True when `refs` may hold one primitive several times, each with the clipped bounds of its part (SBVH).
   bool spatial_splits = false;
 };
