@@ -125,11 +125,10 @@ struct EdgeFunctions {
   bool mixed_signs() const { return (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f); }
 };
 
-/// Edge functions, sign test and distance of a sheared triangle; `t_unscale` undoes a power-of-two scaling of it.
-inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, float t_unscale,
+/// Sign test and distance of a sheared triangle whose float edge functions `e` (of `s`) are not of opposite signs;
+/// `t_unscale` undoes a power-of-two scaling of it.
+inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, EdgeFunctions e, float t_unscale,
                                        const TriangleForEdges& world, std::uint32_t prim_id, Hit& hit) {
-  EdgeFunctions e(s);
-  if (e.mixed_signs()) return false;
   if (e.u == 0.0f || e.v == 0.0f || e.w == 0.0f) {
     // On an edge in single precision: decide that edge (only that one) in double, from the vertices (the float
     // sheared coordinates may have rounded or underflowed: a ray 1e-45 from an edge near 0), without letting the
@@ -166,8 +165,10 @@ inline bool intersect_rescaled_triangle(const PreparedRay& r, ShearedTriangle s,
   const int exponent = std::ilogb(m);
   const float scale = std::ldexp(1.0f, -exponent);
   for (float* v : {&s.ax, &s.ay, &s.az, &s.bx, &s.by, &s.bz, &s.cx, &s.cy, &s.cz}) *v *= scale;
+  const EdgeFunctions e(s);
+  if (e.mixed_signs()) return false;
   const TriangleForEdges scaled{world.v0, world.v1, world.v2, std::ldexp(1.0, -2 * exponent)};
-  return intersect_sheared_triangle(r, s, std::ldexp(1.0f, exponent), scaled, prim_id, hit);
+  return intersect_sheared_triangle(r, s, e, std::ldexp(1.0f, exponent), scaled, prim_id, hit);
 }
 
 /// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t (t clearing t_min by its error bound),
@@ -183,9 +184,10 @@ inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3&
                           c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
   // Float edge functions of opposite signs are a miss in any range: overflow keeps the sign (inf - finite), and
   // underflow can only turn a sign into zero. The rest is decided in the safe range, rescaled if need be.
-  if (EdgeFunctions(s).mixed_signs()) return false;
+  const EdgeFunctions e(s);
+  if (e.mixed_signs()) return false;
   const TriangleForEdges world{v0, v1, v2};
-  if (in_safe_range(s)) return intersect_sheared_triangle(r, s, 1.0f, world, prim_id, hit);
+  if (in_safe_range(s)) return intersect_sheared_triangle(r, s, e, 1.0f, world, prim_id, hit);
   return intersect_rescaled_triangle(r, s, world, prim_id, hit);
 }
 
