@@ -39,9 +39,18 @@ HugePageVector<AABB> binary_node_bounds(const BuildTree& tree) {
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     const BuildNode& n = tree.nodes[i];
     if (n.is_leaf()) {
+      if (std::size_t{n.first} + n.count > tree.refs.size()) {
+        throw Error("wide BVH: binary tree leaf " + std::to_string(i) + " references past the end of the tree's " +
+                    std::to_string(tree.refs.size()) + " references");
+      }
       for (std::uint32_t r = n.first; r < n.first + n.count; ++r) boxes[i].extend(tree.refs[r].bounds);
     } else {
-      if (n.first <= i) throw Error("wide BVH: binary tree node " + std::to_string(i) + " precedes its parent");
+      // Children after their parent (as every builder stores them): the backward pass has their boxes already.
+      if (n.first <= i || std::size_t{n.first} + 1 >= tree.nodes.size()) {
+        throw Error("wide BVH: binary tree node " + std::to_string(i) + " has children at " +
+                    std::to_string(n.first) + ", not after it within the tree's " +
+                    std::to_string(tree.nodes.size()) + " nodes");
+      }
       boxes[i] = merge(boxes[n.first], boxes[n.first + 1]);
     }
   }

@@ -2,17 +2,14 @@
 // answers every ray exactly as the AVX2 build does, and an isa for a width it does not apply to is refused.
 #include <gtest/gtest.h>
 
-#include <cstring>
-#include <limits>
 #include <map>
-#include <random>
 #include <string>
-#include <vector>
 
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/scene/builtin_scenes.h"
 #include "rayaccel/wide/wide_bvh.h"
+#include "same_answers.h"
 
 namespace rayaccel::wide {
 namespace {
@@ -40,26 +37,7 @@ TEST(WideIsa, BothEightWideBuildsGiveTheSameAnswersBitForBit) {
   auto avx2 = make_accelerator("bvh_wide:width=8,isa=avx2");
   best->build(scene);
   avx2->build(scene);
-  const AABB box = scene.bounds();
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  auto inside = [&] {
-    return Vec3{box.lo.x + u(rng) * (box.hi.x - box.lo.x), box.lo.y + u(rng) * (box.hi.y - box.lo.y),
-                box.lo.z + u(rng) * (box.hi.z - box.lo.z)};
-  };
-  int hits = 0;
-  for (int i = 0; i < 4000; ++i) {
-    const Vec3 origin = inside();
-    const Ray ray{origin, 0.0f, inside() - origin, i % 3 == 0 ? 0.5f : std::numeric_limits<float>::infinity()};
-    const Hit a = best->intersect(ray);
-    const Hit b = avx2->intersect(ray);
-    ASSERT_EQ(a.prim_id, b.prim_id) << "ray " << i;
-    ASSERT_EQ(std::memcmp(&a.t, &b.t, sizeof a.t), 0) << "ray " << i;
-    ASSERT_EQ(std::memcmp(&a.u, &b.u, sizeof a.u), 0) << "ray " << i;
-    ASSERT_EQ(std::memcmp(&a.v, &b.v, sizeof a.v), 0) << "ray " << i;
-    ASSERT_EQ(best->occluded(ray), avx2->occluded(ray)) << "ray " << i;
-    hits += a.prim_id != kInvalidPrimId ? 1 : 0;
-  }
+  const int hits = expect_same_answers(scene, *best, *avx2, 4000, 11);
   EXPECT_GT(hits, 1000) << "rays between points of the scene box should hit often";
 }
 
