@@ -90,7 +90,9 @@ double fast_cbrt(double x) {
   return y;
 }
 
-double priority(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& grid, double exponent) {
+/// 2^-d (A_box - A_ideal) of a triangle with box `box` (see presplit.h), 0 when no grid plane crosses the box or the
+/// box wastes nothing.
+double weighted_waste(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& grid) {
   const GridPlane plane = grid.coarsest_crossing(box);
   if (plane.axis < 0) return 0.0;
   const double ux = double(t[1].x) - t[0].x, uy = double(t[1].y) - t[0].y, uz = double(t[1].z) - t[0].z;
@@ -100,7 +102,11 @@ double priority(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& 
   const double box_area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
   const double waste = box_area - ideal;
   if (!(waste > 0.0)) return 0.0;
-  const double weighted = waste * depth_weight(plane.depth);
+  return waste * depth_weight(plane.depth);
+}
+
+double priority(const std::array<Vec3, 3>& t, const AABB& box, const PlaneGrid& grid, double exponent) {
+  const double weighted = weighted_waste(t, box, grid);
   if (!(weighted >= 0x1p-1000) || !std::isfinite(weighted)) return 0.0;
   return exponent == 1.0 / 3.0 ? fast_cbrt(weighted) : std::pow(weighted, exponent);
 }
@@ -142,6 +148,32 @@ std::uint32_t split_box(const std::array<Vec3, 3>& t, AABB box, std::uint32_t pi
 }
 
 }  // namespace
+
+double presplit_potential(const Scene& scene, std::uint32_t max_samples) {
+  if (scene.kind() != PrimitiveKind::triangles || scene.primitive_count() == 0) return 0.0;
+  const AABB& box = scene.bounds();
+  const double ex = double(box.hi.x) - box.lo.x, ey = double(box.hi.y) - box.lo.y, ez = double(box.hi.z) - box.lo.z;
+  const double scene_area = 2.0 * (ex * ey + ey * ez + ez * ex);
+  if (!(scene_area > 0.0) || !std::isfinite(scene_area)) return 0.0;
+  const PlaneGrid grid(scene.bounds());
+  const std::uint32_t n = scene.primitive_count();
+  const std::uint32_t stride = max_samples == 0 ? 1 : std::max<std::uint32_t>(1, (n + max_samples - 1) / max_samples);
+  // A deterministic reduction: the same sum, in the same order, with any number of threads.
+  const std::size_t samples = (std::size_t{n} + stride - 1) / stride;
+  const double sum = tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::size_t>(0, samples, 1024), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& range, double partial) {
+        for (std::size_t k = range.begin(); k != range.end(); ++k) {
+          const auto id = static_cast<std::uint32_t>(k * stride);
+          if (!scene.is_valid(id)) continue;
+          const double weighted = weighted_waste(scene.triangle(id), scene.primitive_bounds(id), grid);
+          if (std::isfinite(weighted)) partial += weighted;
+        }
+        return partial;
+      },
+      std::plus<>());
+  return sum * stride / scene_area;
+}
 
 PresplitResult presplit_references(const Scene& scene, const PresplitConfig& config) {
   PresplitResult result;

@@ -190,7 +190,12 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
 }
 
 void WideBvh::build(const Scene& scene) {
-  if (config_.presplit > 0.0f && scene.kind() == PrimitiveKind::triangles) {
+  presplit_potential_ = 0.0;
+  const bool triangles = scene.kind() == PrimitiveKind::triangles;
+  if (config_.presplit > 0.0f && triangles && config_.presplit_threshold > 0.0f) {
+    presplit_potential_ = presplit_potential(scene);
+  }
+  if (config_.presplit > 0.0f && triangles && presplit_potential_ >= config_.presplit_threshold) {
     PresplitResult presplit = presplit_references(scene, {.fraction = config_.presplit});
     BuildTree tree = build_binned_sah(std::move(presplit.refs), config_.binary);
     tree.spatial_splits = true;
@@ -275,6 +280,7 @@ std::vector<BuildStatistic> WideBvh::build_statistics() const {
           {"skipped_coincident_vertex_triangles", double(skipped_degenerate_)},
           {"references", double(references_)},
           {"presplit_triangles", double(split_triangles_)},
+          {"presplit_potential", presplit_potential_},
           {"leaf_repeats_dropped", double(dropped_repeats_)}};
 }
 
@@ -373,8 +379,9 @@ std::vector<std::string> WideBvh::validate() const {
   return problems;
 }
 
-/// Default of the registry's presplit option: WideBvhConfig's default, written as the option string.
+/// Defaults of the registry's presplit options: WideBvhConfig's defaults, written as option strings.
 constexpr const char* kDefaultPresplit = "0.1";
+constexpr const char* kDefaultPresplitThreshold = "1";
 
 void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
   const BinnedSahConfig defaults = WideBvhConfig{}.binary;
@@ -392,8 +399,13 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
         {"presplit", OptionType::real, kDefaultPresplit,
          "triangle pre-splitting (Karras & Aila 2013): extra references as a fraction of the triangle count, 0..4; 0 "
          "turns it off",
+         {}},
+        {"presplit_threshold", OptionType::real, kDefaultPresplitThreshold,
+         "pre-split only scenes whose pre-splitting potential (box area wasted at coarse grid planes over the scene "
+         "box area; reported as presplit_potential) is at least this; 0 pre-splits every triangle scene",
          {}}},
-       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0"},
+       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0",
+        "bvh_wide:presplit_threshold=0"},
        [](const Options& options) {
          WideBvhConfig config;
          const std::string& width = options.get("width");
@@ -410,6 +422,11 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
            throw Error("bvh_wide: presplit must be in [0, 4], got " + options.get("presplit"));
          }
          config.presplit = static_cast<float>(presplit);
+         const double threshold = options.get_real("presplit_threshold");
+         if (!(threshold >= 0.0 && threshold <= 1e30)) {
+           throw Error("bvh_wide: presplit_threshold must be a number >= 0, got " + options.get("presplit_threshold"));
+         }
+         config.presplit_threshold = static_cast<float>(threshold);
          return std::make_unique<WideBvh>(config);
        }});
 }

@@ -174,6 +174,98 @@ TEST(Presplit, NonTriangleScenesAreUnchanged) {
   EXPECT_EQ(presplit_references(users, {.fraction = 4.0f}).refs.size(), 3u);
 }
 
+/// The scene with every vertex multiplied by `factor` (a power of two keeps every coordinate exact).
+Scene scaled_copy(const Scene& scene, float factor) {
+  TriangleMesh mesh;
+  for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+    for (const Vec3& v : scene.triangle(id)) mesh.vertices.push_back(v * factor);
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  return Scene::from_mesh(std::move(mesh), scene.name() + " scaled");
+}
+
+TEST(PresplitPotential, SeparatesSmallTrianglesFromLargeOnes) {
+  // Small triangles on a fine grid waste little box area at coarse planes; long slivers across the scene a lot (the
+  // value grows with their count, as the scene box stays the same).
+  const Scene grid = Scene::from_mesh(bvh_test::grid_mesh(64), "grid");
+  const Scene slivers = make_builtin_scene("slivers", {{"count", "2000"}});
+  const double small = presplit_potential(grid, 0);
+  const double large = presplit_potential(slivers, 0);
+  EXPECT_GE(small, 0.0);
+  EXPECT_LT(small, 0.1);
+  EXPECT_GT(large, 10.0);
+  EXPECT_GE(presplit_potential(diagonal_scene(400, 23), 0), wide::WideBvhConfig{}.presplit_threshold);
+}
+
+TEST(PresplitPotential, SampledEstimateIsCloseAndExactWhenAllAreSampled) {
+  const Scene slivers = make_builtin_scene("slivers", {{"count", "20000"}});
+  const double exact = presplit_potential(slivers, 0);
+  EXPECT_EQ(presplit_potential(slivers, 20000), exact);  // n <= max_samples: every triangle, the same sum
+  const double sampled = presplit_potential(slivers, 1000);  // every 20th triangle
+  EXPECT_NE(sampled, exact);
+  EXPECT_NEAR(sampled, exact, 0.2 * exact);
+}
+
+TEST(PresplitPotential, IsDimensionless) {
+  // Box areas and the scene area scale alike, and the grid planes move with the scene: the same value at any scale.
+  const Scene scene = diagonal_scene(300, 5);
+  const double unit = presplit_potential(scene, 0);
+  for (float factor : {0x1p-20f, 0x1p-3f, 0x1p10f, 0x1p40f}) {
+    EXPECT_NEAR(presplit_potential(scaled_copy(scene, factor), 0), unit, 1e-6 * unit) << factor;
+  }
+}
+
+TEST(PresplitPotential, ZeroWhereNothingCanBeSplit) {
+  EXPECT_EQ(presplit_potential(Scene{}), 0.0);
+  EXPECT_EQ(presplit_potential(Scene::from_mesh({})), 0.0);
+  EXPECT_EQ(presplit_potential(bvh_test::random_spheres(50, 3)), 0.0);
+  TriangleMesh point;  // every vertex at one point: a scene box of zero area
+  point.vertices = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+  point.triangles = {{0, 1, 2}};
+  EXPECT_EQ(presplit_potential(Scene::from_mesh(std::move(point))), 0.0);
+}
+
+TEST(PresplitWideBvh, DefaultPreSplitsOnlyAboveTheThreshold) {
+  const Scene fine = make_builtin_scene("default");  // small triangles: potential far below 1
+  const Scene diagonal = diagonal_scene(400, 23);     // above 1
+  const auto references = [](const char* spec, const Scene& scene, double* potential = nullptr) {
+    auto accel = make_accelerator(spec);
+    accel->build(scene);
+    EXPECT_TRUE(accel->validate().empty()) << spec;
+    std::map<std::string, double> stats;
+    for (const auto& st : accel->build_statistics()) stats[st.name] = st.value;
+    if (potential) *potential = stats.at("presplit_potential");
+    return stats.at("references");
+  };
+  double fine_potential = -1.0, diagonal_potential = -1.0;
+  EXPECT_EQ(references("bvh_wide", fine, &fine_potential), fine.valid_count());
+  EXPECT_GT(references("bvh_wide", diagonal, &diagonal_potential), diagonal.valid_count());
+  EXPECT_EQ(fine_potential, presplit_potential(fine));
+  EXPECT_EQ(diagonal_potential, presplit_potential(diagonal));
+  // threshold 0 always pre-splits; a threshold above the scene's potential turns it off.
+  EXPECT_GT(references("bvh_wide:presplit_threshold=0", fine), fine.valid_count());
+  EXPECT_EQ(references("bvh_wide:presplit_threshold=1e6", diagonal), diagonal.valid_count());
+}
+
+TEST(PresplitWideBvh, ThresholdOptionIsCheckedAndDefaultsToTheConfig) {
+  const AcceleratorInfo& info = find_accelerator("bvh_wide");
+  const auto option = std::find_if(info.options.begin(), info.options.end(),
+                                   [](const OptionSpec& o) { return o.key == "presplit_threshold"; });
+  ASSERT_NE(option, info.options.end());
+  EXPECT_EQ(std::stof(option->default_value), wide::WideBvhConfig{}.presplit_threshold);
+  for (const char* bad : {"bvh_wide:presplit_threshold=-1", "bvh_wide:presplit_threshold=nan",
+                          "bvh_wide:presplit_threshold=inf"}) {
+    try {
+      make_accelerator(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("presplit_threshold"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(make_accelerator("bvh_wide:presplit_threshold=high"), Error);
+}
+
 TEST(PresplitWideBvh, ValidatesAndMatchesBruteForce) {
   const Scene scenes[] = {diagonal_scene(800, 11), make_builtin_scene("slivers", {{"count", "1500"}}),
                           bvh_test::random_soup(1500, 13, 0.3f),
@@ -211,7 +303,8 @@ TEST(PresplitWideBvh, RegistryDefaultIsTheConfigDefault) {
   ASSERT_NE(option, info.options.end());
   EXPECT_EQ(option->type, OptionType::real);
   EXPECT_EQ(std::stof(option->default_value), wide::WideBvhConfig{}.presplit);
-  // The default splits; presplit=0 keeps one reference per triangle.
+  // The default splits this scene (its potential is above the default threshold); presplit=0 keeps one reference per
+  // triangle.
   const Scene scene = diagonal_scene(400, 23);
   for (const auto& [spec, split] : {std::pair{"bvh_wide", true}, std::pair{"bvh_wide:presplit=0", false}}) {
     auto accel = make_accelerator(spec);

@@ -47,6 +47,12 @@ struct WideBvhConfig {
   /// 0.1 takes most of the gain on architectural scenes (Crytek Sponza: half the primitive tests per ray) for about
   /// a third more build time; larger fractions add build time and memory for little more (see BENCHMARKS.md).
   float presplit = 0.1f;
+  /// Pre-split only scenes whose presplit_potential() (bvh/presplit.h) is at least this; 0 pre-splits every triangle
+  /// scene. Measured (BENCHMARKS.md): pre-splitting paid on Crytek Sponza (potential 4.7) and cost build time for no
+  /// trace gain on the bunny, dragon, soup and teapot-in-a-stadium scenes (0.03-0.27; on teapot-in-a-stadium it was
+  /// slower); 1 lies in the tenfold gap between the two groups. The conference room (2.6) and slivers (374) are
+  /// above it, where 0.1 made no measurable difference either way.
+  float presplit_threshold = 1.0f;
 };
 
 template <int W>
@@ -135,6 +141,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   bool spatial_splits_ = false;         ///< built from a tree with spatial splits: validate() allows repeats
   std::uint32_t references_ = 0;        ///< references of the binary tree
   std::uint32_t split_triangles_ = 0;   ///< triangles pre-split into several references
+  double presplit_potential_ = 0.0;     ///< presplit_potential() of the scene, when it was computed
   std::uint32_t dropped_repeats_ = 0;   ///< references dropped because their primitive was already in the leaf
 };
 
