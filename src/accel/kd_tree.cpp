@@ -255,7 +255,7 @@ void register_kd_tree(std::vector<AcceleratorInfo>& registry) {
         {"max_depth", OptionType::integer, "0", "deepest leaf; 0 = round(8 + 1.3 log2 n)", {}},
         {"leaf_size", OptionType::integer, "2", "median builder: largest node made a leaf", {}},
         {"traversal_cost", OptionType::real, "15", "SAH cost of one traversal step (K_T)", {}},
-        {"intersection_cost", OptionType::real, "7.5", "SAH cost of one primitive test or Triangle4 block (K_I)", {}},
+        {"intersection_cost", OptionType::real, "3", "SAH cost of one primitive test or Triangle4 block (K_I)", {}},
         {"empty_bonus", OptionType::real, "0.2", "SAH: cost fraction saved by cutting off an empty cell", {}},
         {"block_size", OptionType::integer, "4",
          "SAH: K_I per started block of this many triangles (leaves are Triangle4 blocks); 1 = per triangle", {}},
