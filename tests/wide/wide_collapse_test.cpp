@@ -12,16 +12,10 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/scene/builtin_scenes.h"
 #include "rayaccel/wide/wide_bvh.h"
-#include "same_answers.h"
+#include "wide_test_helpers.h"
 
 namespace rayaccel::wide {
 namespace {
-
-std::map<std::string, double> statistics(const Accelerator& accel) {
-  std::map<std::string, double> out;
-  for (const auto& s : accel.build_statistics()) out[s.name] = s.value;
-  return out;
-}
 
 class CollapseThreads : public ::testing::TestWithParam<int> {};
 

@@ -1,17 +1,27 @@
-// Test helper: two accelerators over the same scene give bit-identical closest hits and the same any-hit answers on
-// seeded rays between random points of the scene box.
+// Helpers of the wide BVH tests: an accelerator's build statistics by name, and a check that two accelerators over the
+// same scene give bit-identical closest hits and the same any-hit answers on seeded rays between random points of the
+// scene box.
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <limits>
+#include <map>
 #include <random>
+#include <string>
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/core/scene.h"
 
 namespace rayaccel::wide {
+
+/// build_statistics() as a map from name to value.
+inline std::map<std::string, double> statistics(const Accelerator& accel) {
+  std::map<std::string, double> out;
+  for (const auto& s : accel.build_statistics()) out[s.name] = s.value;
+  return out;
+}
 
 /// Expects a and b to agree bit for bit on `count` rays (every third one a segment of half its length); returns how
 /// many rays hit, so callers can check the rays were not all misses.
