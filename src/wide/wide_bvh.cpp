@@ -190,12 +190,10 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
 }
 
 void WideBvh::build(const Scene& scene) {
-  presplit_potential_ = 0.0;
+  // Computed for every triangle scene (1-2 ms on the shared scenes), so the statistic is reported whatever the options.
   const bool triangles = scene.kind() == PrimitiveKind::triangles;
-  if (config_.presplit > 0.0f && triangles && config_.presplit_threshold > 0.0f) {
-    presplit_potential_ = presplit_potential(scene);
-  }
-  if (config_.presplit > 0.0f && triangles && presplit_potential_ >= config_.presplit_threshold) {
+  const double potential = triangles ? presplit_potential(scene) : 0.0;
+  if (config_.presplit > 0.0f && triangles && potential >= config_.presplit_threshold) {
     PresplitResult presplit = presplit_references(scene, {.fraction = config_.presplit});
     BuildTree tree = build_binned_sah(std::move(presplit.refs), config_.binary);
     tree.spatial_splits = true;
@@ -204,6 +202,7 @@ void WideBvh::build(const Scene& scene) {
   } else {
     build_from(scene, build_binned_sah(scene.build_references(), config_.binary));
   }
+  presplit_potential_ = potential;
 }
 
 void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
@@ -211,6 +210,7 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   spatial_splits_ = tree.spatial_splits;
   references_ = static_cast<std::uint32_t>(tree.refs.size());
   split_triangles_ = 0;
+  presplit_potential_ = 0.0;  // build() sets it; a tree built elsewhere was not chosen by it
   dropped_repeats_ = 0;
   triangles_ = scene.kind() == PrimitiveKind::triangles;
   width_ = config_.width == 8 || (config_.width == 0 && cpu_has_avx2()) ? 8 : 4;

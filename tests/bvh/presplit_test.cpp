@@ -243,9 +243,15 @@ TEST(PresplitWideBvh, DefaultPreSplitsOnlyAboveTheThreshold) {
   EXPECT_GT(references("bvh_wide", diagonal, &diagonal_potential), diagonal.valid_count());
   EXPECT_EQ(fine_potential, presplit_potential(fine));
   EXPECT_EQ(diagonal_potential, presplit_potential(diagonal));
-  // threshold 0 always pre-splits; a threshold above the scene's potential turns it off.
-  EXPECT_GT(references("bvh_wide:presplit_threshold=0", fine), fine.valid_count());
-  EXPECT_EQ(references("bvh_wide:presplit_threshold=1e6", diagonal), diagonal.valid_count());
+  // threshold 0 always pre-splits; a threshold above the scene's potential turns it off. The potential is reported
+  // whatever the options.
+  double reported = -1.0;
+  EXPECT_GT(references("bvh_wide:presplit_threshold=0", fine, &reported), fine.valid_count());
+  EXPECT_EQ(reported, fine_potential);
+  EXPECT_EQ(references("bvh_wide:presplit_threshold=1e6", diagonal, &reported), diagonal.valid_count());
+  EXPECT_EQ(reported, diagonal_potential);
+  EXPECT_EQ(references("bvh_wide:presplit=0", diagonal, &reported), diagonal.valid_count());
+  EXPECT_EQ(reported, diagonal_potential);
 }
 
 TEST(PresplitWideBvh, ThresholdOptionIsCheckedAndDefaultsToTheConfig) {

@@ -141,7 +141,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   bool spatial_splits_ = false;         ///< built from a tree with spatial splits: validate() allows repeats
   std::uint32_t references_ = 0;        ///< references of the binary tree
   std::uint32_t split_triangles_ = 0;   ///< triangles pre-split into several references
-  double presplit_potential_ = 0.0;     ///< presplit_potential() of the scene, when it was computed
+  double presplit_potential_ = 0.0;     ///< build(): presplit_potential() of the scene (0 for other kinds)
   std::uint32_t dropped_repeats_ = 0;   ///< references dropped because their primitive was already in the leaf
 };
 
