@@ -424,7 +424,7 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
          config.presplit = static_cast<float>(presplit);
          const double threshold = options.get_real("presplit_threshold");
          if (!(threshold >= 0.0 && threshold <= 1e30)) {
-           throw Error("bvh_wide: presplit_threshold must be a number >= 0, got " + options.get("presplit_threshold"));
+           throw Error("bvh_wide: presplit_threshold must be a finite number >= 0, got " + options.get("presplit_threshold"));
          }
          config.presplit_threshold = static_cast<float>(threshold);
          return std::make_unique<WideBvh>(config);

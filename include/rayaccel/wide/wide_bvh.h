@@ -51,7 +51,8 @@ struct WideBvhConfig {
   /// scene. Measured (BENCHMARKS.md): pre-splitting paid on Crytek Sponza (potential 4.7) and cost build time for no
   /// trace gain on the bunny, dragon, soup and teapot-in-a-stadium scenes (0.03-0.27; on teapot-in-a-stadium it was
   /// slower); 1 lies in the tenfold gap between the two groups. The conference room (2.6) and slivers (374) are
-  /// above it, where 0.1 made no measurable difference either way.
+  /// above it, though 0.1 bought them no trace speed either (conference within the noise in one set of runs, a
+  /// little slower in the next): two scenes are too few to place a second line between them and Sponza.
   float presplit_threshold = 1.0f;
 };
 
