@@ -381,7 +381,7 @@ std::vector<std::string> WideBvh::validate() const {
 
 /// Defaults of the registry's presplit options: WideBvhConfig's defaults, written as option strings.
 constexpr const char* kDefaultPresplit = "0.1";
-constexpr const char* kDefaultPresplitThreshold = "1";
+constexpr const char* kDefaultPresplitThreshold = "4";
 
 void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
   const BinnedSahConfig defaults = WideBvhConfig{}.binary;

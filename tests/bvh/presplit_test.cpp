@@ -227,8 +227,8 @@ TEST(PresplitPotential, ZeroWhereNothingCanBeSplit) {
 }
 
 TEST(PresplitWideBvh, DefaultPreSplitsOnlyAboveTheThreshold) {
-  const Scene fine = make_builtin_scene("default");  // small triangles: potential far below 1
-  const Scene diagonal = diagonal_scene(400, 23);     // above 1
+  const Scene fine = make_builtin_scene("default");  // small triangles: potential far below 4
+  const Scene diagonal = diagonal_scene(400, 23);     // far above 4
   const auto references = [](const char* spec, const Scene& scene, double* potential = nullptr) {
     auto accel = make_accelerator(spec);
     accel->build(scene);

@@ -48,12 +48,12 @@ struct WideBvhConfig {
   /// a third more build time; larger fractions add build time and memory for little more (see BENCHMARKS.md).
   float presplit = 0.1f;
   /// Pre-split only scenes whose presplit_potential() (bvh/presplit.h) is at least this; 0 pre-splits every triangle
-  /// scene. Measured (BENCHMARKS.md): pre-splitting paid on Crytek Sponza (potential 4.7) and cost build time for no
+  /// scene. Measured (BENCHMARKS.md): pre-splitting paid on Crytek Sponza (potential 5.5) and cost build time for no
   /// trace gain on the bunny, dragon, soup and teapot-in-a-stadium scenes (0.03-0.27; on teapot-in-a-stadium it was
-  /// slower); 1 lies in the tenfold gap between the two groups. The conference room (2.6) and slivers (374) are
-  /// above it, though 0.1 bought them no trace speed either (conference within the noise in one set of runs, a
-  /// little slower in the next): two scenes are too few to place a second line between them and Sponza.
-  float presplit_threshold = 1.0f;
+  /// slower) and on the conference room (3.2; three sets of runs, the trace speed within the noise, the build 25-40%
+  /// slower). 4 lies between the conference room and Sponza. Slivers (374) are above it, though 0.1 buys them no
+  /// trace speed either: only larger budgets pay there.
+  float presplit_threshold = 4.0f;
 };
 
 template <int W>
