@@ -88,6 +88,9 @@ std::string hit_mismatch(const Scene& scene, const Ray& ray, const Hit& expected
 void expect_matches_reference(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
                               std::span<const Hit> reference, const std::string& label) {
   ASSERT_EQ(rays.size(), reference.size());
+  // The packet batch too (rays[8k .. 8k + 8) traced together where the structure has a packet traversal).
+  std::vector<Hit> packet_hits(rays.size());
+  accel.intersect_packets(rays, packet_hits);
   int faults = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Hit hit = accel.intersect(rays[i]);
@@ -96,11 +99,15 @@ void expect_matches_reference(const Accelerator& accel, const Scene& scene, std:
     if (fault.empty() && occluded != reference[i].found()) {
       fault = occluded ? "occluded() is true but nothing is hit" : "occluded() is false but something is hit";
     }
+    if (fault.empty()) {
+      const std::string packet_fault = hit_mismatch(scene, rays[i], reference[i], packet_hits[i]);
+      if (!packet_fault.empty()) fault = "intersect_packets(), packet " + std::to_string(i / 8) + ": " + packet_fault;
+    }
     if (fault.empty()) continue;
     if (++faults <= kMaxReportedFaults) {
       ADD_FAILURE() << accel.spec() << " / " << label << " / ray " << i << ": " << fault << "\n  " << describe(rays[i])
                     << "\n  expected " << describe(reference[i]) << "\n  got      " << describe(hit)
-                    << " occluded=" << occluded;
+                    << " occluded=" << occluded << "\n  packet   " << describe(packet_hits[i]);
     }
   }
   EXPECT_EQ(faults, 0) << accel.spec() << " / " << label << ": " << faults << " of " << rays.size()

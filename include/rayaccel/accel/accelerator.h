@@ -48,6 +48,13 @@ class Accelerator {
   virtual void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                         std::span<TraversalStats> stats = {}) const = 0;
 
+  /// Closest hits of a batch of coherent rays (camera rays of neighbouring pixels, say), with the contract of
+  /// intersect(rays, hits): structures with a packet traversal (bvh_wide's eight-wide nodes) trace each run of eight
+  /// consecutive rays, rays[8k .. 8k + 8), together, sharing node fetches and testing one child box against all
+  /// eight rays at once; the others trace the rays one by one. Any rays may share a packet (incoherent ones only cost
+  /// speed), and every answer is a closest hit, as from intersect() (a tie in t may name another primitive).
+  virtual void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const { intersect(rays, hits); }
+
   /// Bytes of the structure's own data (the scene's arrays are not counted).
   virtual std::size_t memory_bytes() const = 0;
   /// Figures about the last build; may be empty.
