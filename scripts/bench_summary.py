@@ -5,6 +5,8 @@ Usage: scripts/bench_summary.py DIR [DIR...]   (each DIR holds one run: threads1
 
 Every ratio is taken within one run (a structure against Embree measured in the same process), then the median over
 the runs is printed, so one noisy run does not decide a cell.
+Ray kinds: P primary, D diffuse, S shadow, and Pk packet (the primary rays in 4x2 pixel tiles traced eight at a time:
+intersect_packets(), Embree's rtcIntersect8) when every run has it; JSON from before the packet kind gives P / D / S.
 Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree; Embree's own figures are medians too.
 Table 2: the lowest and highest of the default structure's ratios over the runs (only with two or more runs).
 Table 3: the spatial structures as slowdowns against the default bvh_wide (1 thread).
@@ -14,7 +16,10 @@ import statistics
 import sys
 from pathlib import Path
 
-KINDS = ("primary", "diffuse", "shadow")
+BASE_KINDS = ("primary", "diffuse", "shadow")
+PACKET = "packet"
+LETTERS = {"primary": "P", "diffuse": "D", "shadow": "S", PACKET: "Pk"}
+KINDS = BASE_KINDS  # set by main(): BASE_KINDS, plus PACKET when every result of every run has packet figures
 DEFAULT = "bvh_wide"
 NO_PRESPLIT = "bvh_wide:presplit=0"
 SPATIAL = ("kdtree:builder=sah", "grid", "grid:density=1,blocks=true,mailbox=false")
@@ -29,13 +34,13 @@ def mrays(row, kind):
 
 
 def ratios_to_embree(row, embree):
-    """build, memory, P, D, S as ratios: < 1 is better for build and memory, > 1 for rays per second."""
+    """build, memory, Mrays/s per kind (P, D, S[, Pk]) as ratios: < 1 is better for build and memory, > 1 for rays."""
     parts = [row["build_ms_median"] / embree["build_ms_median"], row["memory_bytes"] / embree["memory_bytes"]]
     return parts + [mrays(row, k) / mrays(embree, k) for k in KINDS]
 
 
 def embree_figures(embree):
-    """build ms, MiB (as rayaccel bench prints), P, D, S Mrays/s."""
+    """build ms, MiB (as rayaccel bench prints), Mrays/s per kind (P, D, S[, Pk])."""
     return [embree["build_ms_median"], embree["memory_bytes"] / 2**20] + [mrays(embree, k) for k in KINDS]
 
 
@@ -49,6 +54,15 @@ def median_of(values):
     if isinstance(values[0], list):
         return [median_of([v[i] for v in values]) for i in range(len(values[0]))]
     return statistics.median(values)
+
+
+def has_packet(runs):
+    return all(PACKET in row["rays"] for run in runs for threads in (1, 2) for scene in run[threads]["scenes"]
+               for row in scene["results"] if not row.get("failure"))
+
+
+def letters(separator=" / "):
+    return separator.join(LETTERS[k] for k in KINDS)
 
 
 def load(directory):
@@ -70,6 +84,8 @@ def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     runs = [load(Path(d)) for d in sys.argv[1:]]
+    global KINDS
+    KINDS = BASE_KINDS + ((PACKET,) if has_packet(runs) else ())
     # (threads, scene) -> per-run figures, in the first run's order.
     keys = [(t, s["scene"]) for t in (1, 2) for s in runs[0][t]["scenes"]]
     figures = {key: {"embree": [], "default": [], "no_presplit": [], "spatial": []} for key in keys}
@@ -88,8 +104,8 @@ def main():
 
     print(f"Medians over {len(runs)} run(s).")
     print()
-    print(f"| scene | threads | Embree build ms / MB / Mrays/s P/D/S | {DEFAULT} build / memory / P / D / S "
-          f"| {NO_PRESPLIT} build / memory / P / D / S |")
+    print(f"| scene | threads | Embree build ms / MB / Mrays/s {letters('/')} "
+          f"| {DEFAULT} build / memory / {letters()} | {NO_PRESPLIT} build / memory / {letters()} |")
     print("|---|---|---|---|---|")
     for threads, scene in keys:
         f = figures[(threads, scene)]
@@ -100,7 +116,7 @@ def main():
 
     if len(runs) > 1:
         print()
-        print(f"| scene | threads | {DEFAULT} lowest-highest over the runs: build / memory / P / D / S |")
+        print(f"| scene | threads | {DEFAULT} lowest-highest over the runs: build / memory / {letters()} |")
         print("|---|---|---|")
         for threads, scene in keys:
             per_run = figures[(threads, scene)]["default"]
@@ -109,7 +125,7 @@ def main():
             print(f"| {scene} | {threads} | {' / '.join(spans)} |")
 
     print()
-    print("| scene | " + " | ".join(f"{s} P / D / S" for s in SPATIAL) + " |")
+    print("| scene | " + " | ".join(f"{s} {letters()}" for s in SPATIAL) + " |")
     print("|---|" + "---|" * len(SPATIAL))
     for threads, scene in keys:
         if threads != 1:

@@ -17,15 +17,17 @@
 
 namespace rayaccel::cli {
 
-enum class RayKind { primary, diffuse, shadow };
+/// packet: the primary rays reordered so that each run of eight is a 4 x 2 pixel tile (packet_tile_order()).
+enum class RayKind { primary, diffuse, shadow, packet };
 const char* to_string(RayKind kind);
 
 /// One set of rays traced the same way for every structure: intersect() for primary and diffuse, occluded() for
-/// shadow rays.
+/// shadow rays, intersect_packets() for packet rays.
 struct Workload {
   RayKind kind = RayKind::primary;
   std::vector<Ray> rays;
   bool any_hit() const { return kind == RayKind::shadow; }
+  bool packets() const { return kind == RayKind::packet; }
 };
 
 struct KindResult {
@@ -33,7 +35,7 @@ struct KindResult {
   std::size_t rays = 0;
   std::vector<double> trace_ms;
   double mrays_s_median = 0.0;
-  double nodes_per_ray = -1.0;  ///< -1 when the structure reports no statistics (Embree)
+  double nodes_per_ray = -1.0;  ///< -1 when the structure reports no statistics (Embree; packet rays)
   double prims_per_ray = -1.0;
   std::size_t checked = 0;              ///< rays compared against the reference
   std::size_t mismatches = 0;           ///< rays where the structure disagrees with the oracle
@@ -73,7 +75,9 @@ class ReferenceCheck {
   ReferenceCheck(const Scene& scene, const std::vector<Workload>& workloads, const Accelerator* embree,
                  std::size_t sample_size);
   /// Compares `accel` with the reference on every workload; fills checked / mismatches / reference_differences
-  /// of `kinds` (one per workload) and prints the first mismatches to stderr.
+  /// of `kinds` (one per workload) and prints the first mismatches to stderr. Packet workloads are traced whole
+  /// with intersect_packets() (so the packets are the timed ones) and compared with the reference's single-ray
+  /// answers.
   void check(const Accelerator& accel, std::vector<KindResult>& kinds) const;
   std::string description() const;
 

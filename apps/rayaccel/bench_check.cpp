@@ -98,6 +98,11 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
     std::vector<std::uint8_t> occluded(w.any_hit() ? rays.size() : 0);
     if (w.any_hit()) {
       accel.occluded(rays, occluded);
+    } else if (w.packets()) {
+      // The packets of the whole workload, as timed; a sample's rays put together would not be its packets.
+      std::vector<Hit> all(w.rays.size());
+      accel.intersect_packets(w.rays, all);
+      for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = all[a.indices[i]];
     } else {
       accel.intersect(rays, hits);
     }

@@ -13,6 +13,7 @@ const char* to_string(RayKind kind) {
     case RayKind::primary: return "primary";
     case RayKind::diffuse: return "diffuse";
     case RayKind::shadow: return "shadow";
+    case RayKind::packet: return "packet";
   }
   return "?";
 }
@@ -76,7 +77,10 @@ void print_table(const SceneReport& report) {
     for (const auto& k : report.rows.front().kinds) {
       header.push_back(fmt::format("{} Mrays/s", to_string(k.kind)));
     }
-    for (const auto& k : report.rows.front().kinds) header.push_back(fmt::format("{} nodes/prims", to_string(k.kind)));
+    // Packet traversals take no statistics, so packet rays have no nodes/prims column.
+    for (const auto& k : report.rows.front().kinds) {
+      if (k.kind != RayKind::packet) header.push_back(fmt::format("{} nodes/prims", to_string(k.kind)));
+    }
   }
   header.push_back("mismatches");
   if (embree) fmt::print("(ratios in parentheses: this structure / embree)\n");
@@ -101,6 +105,7 @@ void print_table(const SceneReport& report) {
       cells.push_back(with_ratio(row.kinds[k].mrays_s_median, reference));
     }
     for (const auto& k : row.kinds) {
+      if (k.kind == RayKind::packet) continue;
       cells.push_back(k.nodes_per_ray < 0.0 ? std::string("n/a")
                                             : fmt::format("{:.1f}/{:.1f}", k.nodes_per_ray, k.prims_per_ray));
     }

@@ -1,5 +1,6 @@
 // EmbreeAccelerator: one Embree device and scene over the Scene's shared index buffer and a padded vertex copy;
-// rays are mapped to RTCRay with tnear just above t_min so Embree's [tnear, tfar] matches (t_min, t_max].
+// rays are mapped to RTCRay (or a lane of RTCRayHit8) with tnear just above t_min so Embree's [tnear, tfar] matches
+// (t_min, t_max].
 #include "rayaccel/compare/embree_accelerator.h"
 
 #ifdef RAYACCEL_HAVE_EMBREE
@@ -7,6 +8,7 @@
 #include <embree3/rtcore.h>
 #include <xmmintrin.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -43,13 +45,15 @@ RTCBuildQuality to_embree(EmbreeBuildQuality quality) {
   return RTC_BUILD_QUALITY_MEDIUM;
 }
 
-/// Fills an RTCRay from a ray that is not void with t_min < t_max. Embree accepts tnear <= t <= tfar; the next
-/// float above t_min turns that into t_min < t.
+/// Embree accepts tnear <= t <= tfar; the next float above t_min turns that into t_min < t.
+float embree_tnear(const Ray& ray) { return std::nextafter(ray.t_min, std::numeric_limits<float>::infinity()); }
+
+/// Fills an RTCRay from a ray that is not void with t_min < t_max.
 void to_embree(const Ray& ray, RTCRay& out) {
   out.org_x = ray.origin.x;
   out.org_y = ray.origin.y;
   out.org_z = ray.origin.z;
-  out.tnear = std::nextafter(ray.t_min, std::numeric_limits<float>::infinity());
+  out.tnear = embree_tnear(ray);
   out.dir_x = ray.direction.x;
   out.dir_y = ray.direction.y;
   out.dir_z = ray.direction.z;
@@ -58,6 +62,26 @@ void to_embree(const Ray& ray, RTCRay& out) {
   out.mask = 0xFFFFFFFFu;
   out.id = 0;
   out.flags = 0;
+}
+
+/// Fills lane `lane` of an RTCRayHit8 from a ray that is not void with t_min < t_max, as to_embree() does, with no
+/// hit recorded yet.
+void to_embree(const Ray& ray, RTCRayHit8& out, int lane) {
+  RTCRay8& r = out.ray;
+  r.org_x[lane] = ray.origin.x;
+  r.org_y[lane] = ray.origin.y;
+  r.org_z[lane] = ray.origin.z;
+  r.tnear[lane] = embree_tnear(ray);
+  r.dir_x[lane] = ray.direction.x;
+  r.dir_y[lane] = ray.direction.y;
+  r.dir_z[lane] = ray.direction.z;
+  r.time[lane] = 0.0f;
+  r.tfar[lane] = ray.t_max;
+  r.mask[lane] = 0xFFFFFFFFu;
+  r.id[lane] = 0;
+  r.flags[lane] = 0;
+  out.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+  out.hit.primID[lane] = RTC_INVALID_GEOMETRY_ID;
 }
 
 /// Rays that can hold no hit under t_min < t <= t_max: void rays (PreparedRay's rule, without PreparedRay's divisions,
@@ -187,6 +211,45 @@ void EmbreeAccelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits
   detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
     const EmbreeFloatMode mode;
     for (std::size_t i = begin; i < end; ++i) hits[i] = intersect(rays[i]);
+  });
+}
+
+void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+  detail::check_batch_sizes(rays.size(), hits.size(), 0);
+  constexpr std::size_t kLanes = 8;
+  const std::size_t packets = (rays.size() + kLanes - 1) / kLanes;
+  // Split by packet, not by ray, so every chunk starts on a multiple of eight rays.
+  detail::parallel_for_rays(packets, [&](std::size_t begin, std::size_t end) {
+    const EmbreeFloatMode mode;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[kLanes];
+    RTCRayHit8 query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
+    for (std::size_t p = begin; p < end; ++p) {
+      const std::size_t first = p * kLanes;
+      const std::size_t count = std::min(kLanes, rays.size() - first);
+      bool any = false;
+      for (std::size_t lane = 0; lane < kLanes; ++lane) {
+        const bool active = lane < count && state_->scene && !cannot_hit(rays[first + lane]);
+        valid[lane] = active ? -1 : 0;
+        if (active) {
+          to_embree(rays[first + lane], query, static_cast<int>(lane));
+          any = true;
+        }
+      }
+      for (std::size_t lane = 0; lane < count; ++lane) hits[first + lane] = Hit{};
+      if (!any) continue;
+      rtcIntersect8(valid, state_->scene, &context, &query);
+      for (std::size_t lane = 0; lane < count; ++lane) {
+        if (valid[lane] == 0 || query.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+        Hit& hit = hits[first + lane];
+        hit.t = query.ray.tfar[lane];
+        hit.prim_id = query.hit.primID[lane];
+        hit.u = query.hit.u[lane];
+        hit.v = query.hit.v[lane];
+      }
+    }
   });
 }
 

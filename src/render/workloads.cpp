@@ -66,6 +66,29 @@ std::vector<Ray> primary_rays(const Camera& camera, int width, int height) {
   return rays;
 }
 
+std::vector<std::size_t> packet_tile_order(int width, int height) {
+  if (width <= 0 || height <= 0) {
+    throw Error("packet tiles: bad image size " + std::to_string(width) + "x" + std::to_string(height));
+  }
+  constexpr int kTileWidth = 4, kTileHeight = 2;
+  const auto pixel = [width](int x, int y) { return static_cast<std::size_t>(y) * width + x; };
+  const int tiled_width = width - width % kTileWidth;
+  const int tiled_height = height - height % kTileHeight;
+  std::vector<std::size_t> order;
+  order.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  for (int ty = 0; ty < tiled_height; ty += kTileHeight) {
+    for (int tx = 0; tx < tiled_width; tx += kTileWidth) {
+      for (int y = ty; y < ty + kTileHeight; ++y) {
+        for (int x = tx; x < tx + kTileWidth; ++x) order.push_back(pixel(x, y));
+      }
+    }
+  }
+  for (int y = 0; y < height; ++y) {
+    for (int x = y < tiled_height ? tiled_width : 0; x < width; ++x) order.push_back(pixel(x, y));
+  }
+  return order;
+}
+
 std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
                               std::uint64_t seed) {
   return bounce_rays(scene, rays, hits, std::numeric_limits<float>::infinity(), seed);

@@ -261,10 +261,20 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   const auto result = run_cli(args);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("brute_force"), std::string::npos) << result.out;
+  // The default ray kinds, in the table's order: Mrays/s per kind, then nodes/prims per kind except packet.
+  std::size_t at = 0;
+  for (const char* column : {"primary Mrays/s", "diffuse Mrays/s", "shadow Mrays/s", "packet Mrays/s",
+                             "primary nodes/prims", "diffuse nodes/prims", "shadow nodes/prims", "mismatches"}) {
+    const std::size_t found = result.out.find(column, at);
+    ASSERT_NE(found, std::string::npos) << column << " after column " << at << " in\n" << result.out;
+    at = found;
+  }
+  EXPECT_EQ(result.out.find("packet nodes/prims"), std::string::npos) << result.out;
   const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
   const auto& rows = report["scenes"][0]["results"];
   bool saw_brute_force = false;
   for (const auto& row : rows) {
+    EXPECT_EQ(row["rays"].size(), 4u) << row.dump();
     if (row["accel"] != "brute_force") continue;
     saw_brute_force = true;
     EXPECT_EQ(row["mismatches"], 0);
@@ -273,6 +283,11 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
     // Brute force tests every valid (finite, non-degenerate) primitive once per ray.
     EXPECT_DOUBLE_EQ(row["rays"]["primary"]["primitives_tested_per_ray"].get<double>(),
                      double(load_scene(c.ply.string()).valid_count()));
+    EXPECT_EQ(row["rays"]["packet"]["rays"], 256);
+    EXPECT_GT(row["rays"]["packet"]["checked"].get<int>(), 0);
+    EXPECT_EQ(row["rays"]["packet"]["mismatches"], 0);
+    EXPECT_GT(row["rays"]["packet"]["mrays_s_median"].get<double>(), 0.0);
+    EXPECT_FALSE(row["rays"]["packet"].contains("nodes_per_ray")) << "packet traversals take no statistics";
   }
   EXPECT_TRUE(saw_brute_force);
 #ifdef RAYACCEL_HAVE_EMBREE
@@ -281,6 +296,40 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
 #endif
   EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_normals.png"));
   EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_heatmap.png"));
+}
+
+TEST(CliBench, PacketRaysAloneAreTracedAndChecked) {
+  const SmallCase c = make_small_case();
+  const auto json_path = c.dir / "bench_packet.json";
+  // 10 x 10 is not a multiple of the 4 x 2 tiles: the pixels outside whole tiles are traced too.
+  std::vector<std::string> args = {"bench", c.ply.string(), "--accel", "brute_force,bvh_wide,grid", "--rays",
+                                   "packet", "--res", "10", "--repeat", "1", "--json", json_path.string()};
+#ifdef RAYACCEL_HAVE_EMBREE
+  args.insert(args.end(), {"--compare", "embree"});
+#endif
+  const auto result = run_cli(args);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("packet Mrays/s"), std::string::npos) << result.out;
+  EXPECT_EQ(result.out.find("primary Mrays/s"), std::string::npos) << result.out;
+  EXPECT_EQ(result.out.find("nodes/prims"), std::string::npos) << result.out;
+  const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
+  const auto& rows = report["scenes"][0]["results"];
+#ifdef RAYACCEL_HAVE_EMBREE
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0]["accel"], "embree");
+  EXPECT_NE(result.out.find("x)"), std::string::npos) << "ratios to Embree expected:\n" << result.out;
+#else
+  ASSERT_EQ(rows.size(), 3u);
+#endif
+  for (const auto& row : rows) {
+    ASSERT_EQ(row["rays"].size(), 1u) << row.dump();
+    const auto& packet = row["rays"]["packet"];
+    EXPECT_EQ(packet["rays"], 100);
+    EXPECT_GT(packet["mrays_s_median"].get<double>(), 0.0);
+    if (row["is_embree"]) continue;
+    EXPECT_EQ(packet["checked"], 100) << row["accel"];
+    EXPECT_EQ(packet["mismatches"], 0) << row["accel"];
+  }
 }
 
 TEST(CliBench, SphereSceneIsCheckedAgainstBruteForceSample) {

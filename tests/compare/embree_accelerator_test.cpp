@@ -1,5 +1,6 @@
 // Tests of the Embree comparison wrapper: it agrees with brute force (t within Embree's kernel tolerance), maps
-// misses and void rays to this library's miss record, measures its memory, and refuses non-triangle scenes.
+// misses and void rays to this library's miss record, gives the same answers through rtcIntersect8 packets as one
+// ray at a time, measures its memory, and refuses non-triangle scenes.
 #include "rayaccel/compare/embree_accelerator.h"
 
 #ifdef RAYACCEL_HAVE_EMBREE
@@ -12,6 +13,9 @@
 
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/render/camera.h"
+#include "rayaccel/render/workloads.h"
+#include "rayaccel/scene/builtin_scenes.h"
 
 namespace rayaccel {
 namespace {
@@ -113,6 +117,88 @@ TEST(EmbreeAccelerator, HonoursTheHitInterval) {
   EXPECT_FALSE(embree.occluded(starts_there));
   const Ray short_ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 1.999f};
   EXPECT_FALSE(embree.occluded(short_ray));
+}
+
+TEST(EmbreeAccelerator, PacketsAgreeWithSingleRays) {
+  const Scene scene = make_builtin_scene("default");
+  EmbreeAccelerator embree(EmbreeOptions{2, EmbreeBuildQuality::medium});
+  embree.build(scene);
+  // Camera rays of a 61 x 37 image (2257 rays), with void, empty-interval and t_min-raised rays spliced in at
+  // positions that fall in different lanes, and a packet of void rays: 2273 rays, so the last packet is partial.
+  std::vector<Ray> rays = primary_rays(Camera::framing(scene.bounds()), 61, 37);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<std::pair<std::size_t, Ray>> odd = {
+      {0, {{nan, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, inf}},
+      {9, {rays[9].origin, 0.0f, {0.0f, 0.0f, 0.0f}, inf}},        // zero direction
+      {18, {rays[18].origin, 0.0f, {inf, 0.0f, 1.0f}, inf}},       // infinite direction
+      {27, {rays[27].origin, 2.0f, rays[27].direction, 1.0f}},     // t_max < t_min
+      {36, {rays[36].origin, 1.0f, rays[36].direction, 1.0f}},     // t_min == t_max: no t fits
+      {45, {rays[45].origin, nan, rays[45].direction, inf}},
+      {200, {rays[200].origin, 0.0f, rays[200].direction, 0.0f}},  // t_max = 0
+      {300, {rays[300].origin, 1e30f, rays[300].direction, inf}},  // starts beyond the scene
+  };
+  for (const auto& [at, ray] : odd) rays.insert(rays.begin() + static_cast<std::ptrdiff_t>(at), ray);
+  // Eight void rays make a whole packet with no active lane (after the odd rays, so their positions hold).
+  rays.insert(rays.begin() + 400, 8, Ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, inf});
+  ASSERT_NE(rays.size() % 8, 0u);
+
+  std::vector<Hit> packets(rays.size()), batch(rays.size());
+  embree.intersect_packets(rays, packets);
+  embree.intersect(rays, batch);
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit single = embree.intersect(rays[i]);
+    for (const Hit* want : {static_cast<const Hit*>(&batch[i]), &single}) {
+      EXPECT_EQ(packets[i].prim_id, want->prim_id) << "ray " << i;
+      EXPECT_FLOAT_EQ(packets[i].t, want->t) << "ray " << i;
+      EXPECT_FLOAT_EQ(packets[i].u, want->u) << "ray " << i;
+      EXPECT_FLOAT_EQ(packets[i].v, want->v) << "ray " << i;
+    }
+    if (!packets[i].found()) {
+      EXPECT_EQ(packets[i].t, inf) << "ray " << i;
+      EXPECT_EQ(packets[i].u, 0.0f) << "ray " << i;
+      EXPECT_EQ(packets[i].v, 0.0f) << "ray " << i;
+    }
+    hits += packets[i].found() ? 1 : 0;
+  }
+  EXPECT_GT(hits, rays.size() / 20) << "the camera should see the scene (about a tenth of its image)";
+  for (const auto& [at, ray] : odd) {
+    if (at != 300) {
+      EXPECT_FALSE(packets[at].found()) << "ray " << at;
+    }
+  }
+  for (std::size_t i = 400; i < 408; ++i) EXPECT_FALSE(packets[i].found()) << "ray " << i;
+
+  // Output slots must match the rays; an empty batch is fine.
+  std::vector<Hit> short_output(rays.size() - 1);
+  EXPECT_THROW(embree.intersect_packets(rays, short_output), Error);
+  embree.intersect_packets({}, {});
+}
+
+TEST(EmbreeAccelerator, PacketsHonourTheHitInterval) {
+  TriangleMesh mesh;
+  mesh.vertices = {{-1.0f, -1.0f, 2.0f}, {1.0f, -1.0f, 2.0f}, {0.0f, 1.0f, 2.0f}};
+  mesh.triangles = {{0, 1, 2}};
+  const Scene scene = Scene::from_mesh(mesh);
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  const std::vector<Ray> rays = {
+      {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 2.0f},    // t = t_max counts
+      {{0.0f, 0.0f, 0.0f}, 2.0f, {0.0f, 0.0f, 1.0f}, 5.0f},    // t = t_min does not
+      {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 1.999f},  // ends short
+  };
+  std::vector<Hit> hits(rays.size());
+  embree.intersect_packets(rays, hits);
+  EXPECT_EQ(hits[0].prim_id, 0u);
+  EXPECT_FLOAT_EQ(hits[0].t, 2.0f);
+  EXPECT_FALSE(hits[1].found());
+  EXPECT_FALSE(hits[2].found());
+  const Scene empty = Scene::from_mesh({});
+  EmbreeAccelerator nothing;
+  nothing.build(empty);
+  nothing.intersect_packets(rays, hits);
+  for (const Hit& h : hits) EXPECT_FALSE(h.found());
 }
 
 TEST(EmbreeAccelerator, InvalidAndZeroAreaTrianglesAreNeverHit) {

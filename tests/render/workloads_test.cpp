@@ -1,9 +1,10 @@
-// Tests of the ray workloads: determinism, thread-count independence, cosine-weighted hemisphere sampling, and
-// secondary-ray origins that never re-hit the surface they leave.
+// Tests of the ray workloads: the packet tile order, determinism, thread-count independence, cosine-weighted
+// hemisphere sampling, and secondary-ray origins that never re-hit the surface they leave.
 #include <gtest/gtest.h>
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -68,6 +69,34 @@ TEST(Workloads, PrimaryRaysAreRowMajorFromTopLeft) {
     }
   }
   EXPECT_THROW(primary_rays(cam, 0, 5), Error);
+}
+
+TEST(Workloads, PacketTilesAreFourByTwoPixelsInRowMajorOrder) {
+  // 8 x 4: four whole tiles, no remainder.
+  const std::vector<std::size_t> even = packet_tile_order(8, 4);
+  const std::vector<std::size_t> expected = {0,  1,  2,  3,  8,  9,  10, 11,   // tile (0, 0)
+                                             4,  5,  6,  7,  12, 13, 14, 15,   // tile (1, 0)
+                                             16, 17, 18, 19, 24, 25, 26, 27,   // tile (0, 1)
+                                             20, 21, 22, 23, 28, 29, 30, 31};  // tile (1, 1)
+  EXPECT_EQ(even, expected);
+  // 6 x 3: one whole tile, then the right strip of the tiled rows and the odd last row, row-major.
+  const std::vector<std::size_t> odd = packet_tile_order(6, 3);
+  const std::vector<std::size_t> expected_odd = {0, 1, 2, 3, 6, 7, 8, 9, 4, 5, 10, 11, 12, 13, 14, 15, 16, 17};
+  EXPECT_EQ(odd, expected_odd);
+  // Narrower or shorter than a tile: row-major throughout.
+  const std::vector<std::size_t> thin = packet_tile_order(3, 2);
+  EXPECT_EQ(thin, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5}));
+  // Every pixel once, for sizes with every remainder.
+  for (int w = 1; w <= 9; ++w) {
+    for (int h = 1; h <= 5; ++h) {
+      std::vector<std::size_t> order = packet_tile_order(w, h);
+      ASSERT_EQ(order.size(), static_cast<std::size_t>(w * h));
+      std::sort(order.begin(), order.end());
+      for (std::size_t i = 0; i < order.size(); ++i) EXPECT_EQ(order[i], i) << w << "x" << h;
+    }
+  }
+  EXPECT_THROW(packet_tile_order(0, 4), Error);
+  EXPECT_THROW(packet_tile_order(4, -1), Error);
 }
 
 TEST(Workloads, DeterministicAndIndependentOfThreadCount) {

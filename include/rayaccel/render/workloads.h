@@ -3,6 +3,7 @@
 // conservative offset (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., section 3.9).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -16,6 +17,13 @@ namespace rayaccel {
 
 /// width * height rays, row-major from the top-left pixel (both > 0, else Error).
 std::vector<Ray> primary_rays(const Camera& camera, int width, int height);
+
+/// The order in which packet traversals get camera rays: indices into primary_rays(camera, width, height) such that
+/// each run of eight consecutive entries is a 4 x 2 tile of pixels (its top row left to right, then its bottom row).
+/// The tiles cover the first width - width % 4 columns of the first height - height % 2 rows and come in row-major
+/// order (left to right, then top to bottom); the pixels no whole tile covers (the right strip of width % 4 columns,
+/// then the last row when height is odd) follow in row-major order. Every pixel appears once (both > 0, else Error).
+std::vector<std::size_t> packet_tile_order(int width, int height);
 
 /// One cosine-weighted bounce from each hit of `rays` (misses produce none; output order = order of the hits),
 /// on the side the ray came from, unbounded (t in [0, +inf)), unit direction. The random numbers of ray i depend
