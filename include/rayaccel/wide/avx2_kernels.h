@@ -47,6 +47,23 @@ struct Avx8 {
                                          _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id)));
     return _mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1)));
   }
+  // For the packet traversal (one child box against eight rays, wide_bvh_packets.cpp):
+  RAYACCEL_AVX2 static F broadcast(const float* p) { return _mm256_broadcast_ss(p); }
+  /// b where the mask lane is set (sign bit), a elsewhere.
+  RAYACCEL_AVX2 static F blend(F a, F b, F mask) { return _mm256_blendv_ps(a, b, mask); }
+  /// All-ones in the lanes whose bit is set in `bits`.
+  RAYACCEL_AVX2 static F lanes_from_bits(int bits) {
+    const __m256i lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i set = _mm256_and_si256(_mm256_set1_epi32(bits), lane_bits);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bits));
+  }
+  /// The smallest lane.
+  RAYACCEL_AVX2 static float horizontal_min(F a) {
+    __m128 m = _mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+  }
 #undef RAYACCEL_AVX2
 };
 

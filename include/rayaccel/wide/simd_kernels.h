@@ -199,6 +199,7 @@ template <class S>
 struct TrianglePacket {
   typename S::F origin_k[3];
   typename S::F shear_x, shear_y, shear_z, t_min;
+  TrianglePacket() = default;  ///< for a packet of rays, one per lane (the packet traversal fills the lanes)
   explicit TrianglePacket(const PreparedRay& r)
       : origin_k{S::set1(r.origin[r.kx]), S::set1(r.origin[r.ky]), S::set1(r.origin[r.kz])},
         shear_x(S::set1(r.shear_x)),
@@ -207,10 +208,82 @@ struct TrianglePacket {
         t_min(S::set1(r.t_min)) {}
 };
 
+/// The float path of the watertight test in each of S's lanes, from the vertices relative to the ray origin and
+/// sheared (px, py: x and y after the shear; pz: the unsheared kz component; vertices a, b, c = 0, 1, 2), with the
+/// lane's shear_z, t_min and exclusive far bound. `decided_miss` marks lanes known to miss (padding, inactive rays).
+/// Each lane performs the float operations of geometry/ray_triangle.h in the same order, so whether a lane is written
+/// in terms of one ray and eight triangles (intersect_triangle_lanes) or one triangle and eight rays
+/// (intersect_triangle_rays), the answers are bit-identical to the scalar kernel's.
+template <class S>
+struct WatertightLanes {
+  using F = typename S::F;
+  int hits = 0;     ///< lanes whose float path found a hit with t_min + error < t < far bound
+  int on_edge = 0;  ///< undecided lanes the scalar kernel must finish (an edge function 0, or outside the safe range)
+  F t, inv_det, ev, ew;  ///< for the lanes in `hits`: u = ev * inv_det, v = ew * inv_det
+
+  /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
+  /// functions or by `decided_miss`.
+  bool test(const F px[3], const F py[3], const F pz[3], F shear_z, F t_min, F t_far, F decided_miss) {
+    // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
+    const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
+    ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));
+    ew = S::sub(S::mul(px[1], py[0]), S::mul(py[1], px[0]));
+    const F zero = S::zero();
+    // Most tested triangles are missed, with edge functions of opposite signs, which decides them in any range and
+    // whatever an edge function of zero would be decided as (see ray_triangle.h): leave before anything else when
+    // no lane is left. min and max return one of their operands, so a lane found mixed here has a negative and a
+    // positive edge function; lanes with NaN this may miss are rejected below (det or t NaN) or by the scalar kernel.
+    const F mixed_signs =
+        S::bit_and(S::lt(S::min(eu, S::min(ev, ew)), zero), S::gt(S::max(eu, S::max(ev, ew)), zero));
+    const F decided = S::bit_or(mixed_signs, decided_miss);
+    if (S::movemask(decided) == (1 << S::kWidth) - 1) return false;
+    // Largest magnitudes of the x, y and (unsheared) z coordinates: the safe-range test and the bound on t's error.
+    const F sign_bit = S::set1(-0.0f);
+    F max_x = S::and_not(sign_bit, px[0]), max_y = S::and_not(sign_bit, py[0]), max_z = S::and_not(sign_bit, pz[0]);
+    for (int v = 1; v < 3; ++v) {
+      max_x = S::max(S::and_not(sign_bit, px[v]), max_x);
+      max_y = S::max(S::and_not(sign_bit, py[v]), max_y);
+      max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
+    }
+    const F magnitude = S::max(max_x, S::max(max_y, max_z));
+    // Undecided lanes the float kernel cannot finish alone: an edge function of exactly zero (double-precision
+    // fallback) or coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
+    const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
+    const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
+    const F unsafe = S::and_not(safe, S::all_ones());
+    on_edge = S::movemask(S::and_not(decided, S::bit_or(on_edge_lanes, unsafe)));
+    const F det = S::add(S::add(eu, ev), ew);
+    const F az = S::mul(shear_z, pz[0]);
+    const F bz = S::mul(shear_z, pz[1]);
+    const F cz = S::mul(shear_z, pz[2]);
+    const F scaled_t = S::add(S::add(S::mul(eu, az), S::mul(ev, bz)), S::mul(ew, cz));
+    inv_det = S::div(S::set1(1.0f), det);
+    t = S::mul(scaled_t, inv_det);
+    // t must clear t_min by more than its rounding-error bound: t_error_bound() of ray_triangle.h, operation for
+    // operation (so SIMD and scalar accept the same hits).
+    const F max_zt = S::mul(S::and_not(sign_bit, shear_z), max_z);
+    const F delta_z = S::mul(S::set1(float_gamma(3)), max_zt);
+    const F delta_x = S::mul(S::set1(float_gamma(5)), S::add(max_x, max_zt));
+    const F delta_y = S::mul(S::set1(float_gamma(5)), S::add(max_y, max_zt));
+    const F delta_e = S::mul(S::set1(2.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(2)), max_x), max_y),
+                                                         S::mul(delta_y, max_x)),
+                                                  S::mul(delta_x, max_y)));
+    const F max_e =
+        S::max(S::and_not(sign_bit, eu), S::max(S::and_not(sign_bit, ev), S::and_not(sign_bit, ew)));
+    const F t_error = S::mul(
+        S::mul(S::set1(3.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(3)), max_e), max_zt),
+                                            S::mul(delta_e, max_zt)),
+                                     S::mul(delta_z, max_e))),
+        S::and_not(sign_bit, inv_det));
+    const F valid = S::and_not(
+        decided, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(t_min, t_error)), S::lt(t, t_far))));
+    hits = S::movemask(valid) & ~on_edge;
+    return true;
+  }
+};
+
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
-/// Returns true on any update. Each lane performs the float operations of geometry/ray_triangle.h in the same order
-/// (no FMA contraction: -ffp-contract=off), so the answers are bit-identical to the scalar kernel's; lanes the float
-/// path cannot decide (an edge function exactly 0, or coordinates outside the safe range) go to the scalar kernel.
+/// Returns true on any update. Lanes the float path cannot decide go to the scalar kernel (see WatertightLanes).
 template <class S>
 inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
                                      const Triangle4* const* blocks, Hit& hit) {
@@ -226,69 +299,16 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     py[v] = S::sub(ay, S::mul(ray.shear_y, az));
     pz[v] = az;
   }
-  // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
-  const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
-  const F ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));
-  const F ew = S::sub(S::mul(px[1], py[0]), S::mul(py[1], px[0]));
-  const F zero = S::zero();
-  const F padding = S::padding(blocks);
-  // Most tested triangles are missed, with edge functions of opposite signs, which decides them in any range and
-  // whatever an edge function of zero would be decided as (see ray_triangle.h): leave before anything else when no
-  // lane is left. min and max return one of their operands, so a lane found mixed here has a negative and a positive
-  // edge function; lanes with NaN this may miss are rejected below (det or t NaN) or by the scalar kernel.
-  const F mixed_signs = S::bit_and(S::lt(S::min(eu, S::min(ev, ew)), zero), S::gt(S::max(eu, S::max(ev, ew)), zero));
-  const F decided = S::bit_or(mixed_signs, padding);
-  if (S::movemask(decided) == (1 << W) - 1) return false;
-  // Largest magnitudes of the x, y and (unsheared) z coordinates: the safe-range test and the bound on t's error.
-  const F sign_bit = S::set1(-0.0f);
-  F max_x = S::and_not(sign_bit, px[0]), max_y = S::and_not(sign_bit, py[0]), max_z = S::and_not(sign_bit, pz[0]);
-  for (int v = 1; v < 3; ++v) {
-    max_x = S::max(S::and_not(sign_bit, px[v]), max_x);
-    max_y = S::max(S::and_not(sign_bit, py[v]), max_y);
-    max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
-  }
-  const F magnitude = S::max(max_x, S::max(max_y, max_z));
-  // Undecided lanes the float kernel cannot finish alone: an edge function of exactly zero (double-precision
-  // fallback) or coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
-  const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
-  const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
-  const F unsafe = S::and_not(safe, S::all_ones());
-  const int on_edge = S::movemask(S::and_not(decided, S::bit_or(on_edge_lanes, unsafe)));
-  const F det = S::add(S::add(eu, ev), ew);
-  const F az = S::mul(ray.shear_z, pz[0]);
-  const F bz = S::mul(ray.shear_z, pz[1]);
-  const F cz = S::mul(ray.shear_z, pz[2]);
-  const F scaled_t = S::add(S::add(S::mul(eu, az), S::mul(ev, bz)), S::mul(ew, cz));
-  const F inv_det = S::div(S::set1(1.0f), det);
-  const F t = S::mul(scaled_t, inv_det);
-  // t must clear t_min by more than its rounding-error bound: t_error_bound() of ray_triangle.h, operation for
-  // operation (so SIMD and scalar accept the same hits).
-  const F max_zt = S::mul(S::and_not(sign_bit, ray.shear_z), max_z);
-  const F delta_z = S::mul(S::set1(float_gamma(3)), max_zt);
-  const F delta_x = S::mul(S::set1(float_gamma(5)), S::add(max_x, max_zt));
-  const F delta_y = S::mul(S::set1(float_gamma(5)), S::add(max_y, max_zt));
-  const F delta_e = S::mul(S::set1(2.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(2)), max_x), max_y),
-                                                       S::mul(delta_y, max_x)),
-                                                S::mul(delta_x, max_y)));
-  const F max_e =
-      S::max(S::and_not(sign_bit, eu), S::max(S::and_not(sign_bit, ev), S::and_not(sign_bit, ew)));
-  const F t_error = S::mul(
-      S::mul(S::set1(3.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(3)), max_e), max_zt),
-                                          S::mul(delta_e, max_zt)),
-                                   S::mul(delta_z, max_e))),
-      S::and_not(sign_bit, inv_det));
-  const F valid = S::and_not(
-      mixed_signs, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(ray.t_min, t_error)),
-                                                            S::lt(t, S::set1(hit.t)))));
-  int lanes = S::movemask(valid) & ~on_edge;
+  WatertightLanes<S> lanes;
+  if (!lanes.test(px, py, pz, ray.shear_z, ray.t_min, S::set1(hit.t), S::padding(blocks))) return false;
   bool updated = false;
-  if (lanes) {
+  if (lanes.hits) {
     float t_lane[W], u_lane[W], v_lane[W];
-    S::store(t_lane, t);
-    S::store(u_lane, S::mul(ev, inv_det));
-    S::store(v_lane, S::mul(ew, inv_det));
-    for (; lanes; lanes &= lanes - 1) {
-      const int lane = __builtin_ctz(static_cast<unsigned>(lanes));
+    S::store(t_lane, lanes.t);
+    S::store(u_lane, S::mul(lanes.ev, lanes.inv_det));
+    S::store(v_lane, S::mul(lanes.ew, lanes.inv_det));
+    for (int rest = lanes.hits; rest; rest &= rest - 1) {
+      const int lane = __builtin_ctz(static_cast<unsigned>(rest));
       if (t_lane[lane] < hit.t) {
         hit.t = t_lane[lane];
         hit.prim_id = blocks[lane / 4]->prim_id[lane % 4];
@@ -298,7 +318,7 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
       }
     }
   }
-  for (int rest = on_edge; rest; rest &= rest - 1) {
+  for (int rest = lanes.on_edge; rest; rest &= rest - 1) {
     const int lane = __builtin_ctz(static_cast<unsigned>(rest));
     const Triangle4& block = *blocks[lane / 4];
     const int i = lane % 4;
@@ -306,6 +326,63 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     const Vec3 v1{block.vertex[1][0][i], block.vertex[1][1][i], block.vertex[1][2][i]};
     const Vec3 v2{block.vertex[2][0][i], block.vertex[2][1][i], block.vertex[2][2][i]};
     updated |= intersect_triangle(scalar_ray, v0, v1, v2, block.prim_id[i], hit);
+  }
+  return updated;
+}
+
+/// Tests triangle `i` of `block` against the rays of a packet, one per lane of S, in the lanes set in `rays`: all of
+/// them share the axes kx, ky, kz (`axes`), and `packet` holds each lane's own origin, shear and t_min, as
+/// PreparedRay computes them from scalar_rays[lane] (which the scalar kernel gets for undecided lanes). Updates each
+/// lane's hit (closest in (t_min, hit.t)) and the lanes of `t_far`, the packet's exclusive far bounds (hit.t per lane).
+/// Returns the lanes whose hit changed.
+template <class S>
+inline int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* scalar_rays, int rays,
+                                   const int axes[3], const Triangle4& block, int i, Hit* hits,
+                                   typename S::F& t_far) {
+  using F = typename S::F;
+  constexpr int W = S::kWidth;
+  F px[3], py[3], pz[3];
+  for (int v = 0; v < 3; ++v) {
+    const F ax = S::sub(S::broadcast(&block.vertex[v][axes[0]][i]), packet.origin_k[0]);
+    const F ay = S::sub(S::broadcast(&block.vertex[v][axes[1]][i]), packet.origin_k[1]);
+    const F az = S::sub(S::broadcast(&block.vertex[v][axes[2]][i]), packet.origin_k[2]);
+    px[v] = S::sub(ax, S::mul(packet.shear_x, az));
+    py[v] = S::sub(ay, S::mul(packet.shear_y, az));
+    pz[v] = az;
+  }
+  WatertightLanes<S> lanes;
+  const F inactive = S::and_not(S::lanes_from_bits(rays), S::all_ones());
+  if (!lanes.test(px, py, pz, packet.shear_z, packet.t_min, t_far, inactive)) return 0;
+  const std::uint32_t prim_id = block.prim_id[i];
+  int updated = 0;
+  if (lanes.hits) {
+    float t_lane[W], u_lane[W], v_lane[W];
+    S::store(t_lane, lanes.t);
+    S::store(u_lane, S::mul(lanes.ev, lanes.inv_det));
+    S::store(v_lane, S::mul(lanes.ew, lanes.inv_det));
+    for (int rest = lanes.hits; rest; rest &= rest - 1) {
+      const int lane = __builtin_ctz(static_cast<unsigned>(rest));
+      hits[lane] = {t_lane[lane], prim_id, u_lane[lane], v_lane[lane]};  // t < hit.t: the lane's far bound
+      updated |= 1 << lane;
+    }
+  }
+  if (lanes.on_edge) {
+    const Vec3 v0{block.vertex[0][0][i], block.vertex[0][1][i], block.vertex[0][2][i]};
+    const Vec3 v1{block.vertex[1][0][i], block.vertex[1][1][i], block.vertex[1][2][i]};
+    const Vec3 v2{block.vertex[2][0][i], block.vertex[2][1][i], block.vertex[2][2][i]};
+    for (int rest = lanes.on_edge; rest; rest &= rest - 1) {
+      const int lane = __builtin_ctz(static_cast<unsigned>(rest));
+      if (intersect_triangle(PreparedRay(scalar_rays[lane]), v0, v1, v2, prim_id, hits[lane])) updated |= 1 << lane;
+    }
+  }
+  if (updated) {
+    alignas(32) float far[W];
+    S::store(far, t_far);
+    for (int rest = updated; rest; rest &= rest - 1) {
+      const int lane = __builtin_ctz(static_cast<unsigned>(rest));
+      far[lane] = hits[lane].t;
+    }
+    t_far = S::load(far);
   }
   return updated;
 }

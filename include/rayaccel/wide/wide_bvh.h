@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -76,6 +77,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::size_t memory_bytes() const override;
   std::vector<BuildStatistic> build_statistics() const override;
   std::vector<std::string> validate() const override;
+  /// Eight rays at a time with eight-wide nodes (wide_bvh_packets.cpp); one by one with four-wide nodes or for
+  /// primitives other than triangles.
+  void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const override;
 
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
@@ -112,6 +116,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
       const PreparedRay& ray, Hit& hit, Stats& stats) const {
     traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
   }
+  /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count).
+  template <class S>
+  void trace_packet(const Ray* rays, int count, Hit* hits) const;
+  void trace_packet_avx2(const Ray* rays, int count, Hit* hits) const;
+  void trace_packet_avx512(const Ray* rays, int count, Hit* hits) const;
   template <class Kernel, bool AnyHit, class Stats>
   void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>

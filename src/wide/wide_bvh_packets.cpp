@@ -1,0 +1,289 @@
+// Packet traversal of the eight-wide BVH: eight coherent rays traced together (Wald, Slusallek, Benthin, Wagner 2001,
+// "Interactive rendering with coherent ray tracing"; for wide nodes, the packet-per-child test of Embree's hybrid
+// traversal, Wald et al. 2014). Each child box is tested against all eight rays in one pass of AVX2 lanes, with the
+// same float operations per lane as the single-ray box test (so a lane meets exactly the boxes its ray would); the
+// packet descends into every child some ray meets, nearest (smallest entry of the rays that meet it) first, and keeps
+// per-ray entry distances on its stack so each ray is culled by its own closest hit. Leaves are tested ray by ray
+// with the single-ray watertight kernel, only for the rays that met the leaf's box, so every answer is a closest hit
+// of the same kernel (a tie in t may keep another primitive than the single-ray order would).
+#include <array>
+#include <cfloat>
+#include <cstddef>
+#include <utility>
+
+#include "rayaccel/wide/wide_bvh.h"
+
+namespace rayaccel::wide {
+
+namespace {
+
+constexpr int kPacketSize = 8;
+
+/// A ray that is void (see PreparedRay): the lanes of a last, partial packet.
+Ray void_ray() {
+  Ray ray;
+  ray.t_min = std::numeric_limits<float>::infinity();
+  ray.t_max = -std::numeric_limits<float>::infinity();
+  return ray;
+}
+
+template <std::size_t... I>
+std::array<PreparedRay, sizeof...(I)> prepare_rays(const Ray* rays, std::index_sequence<I...>) {
+  return {PreparedRay(rays[I])...};
+}
+
+}  // namespace
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+/// The per-lane constants of a packet, computed eight lanes at a time: each lane holds what PreparedRay,
+/// BoxTestOrigin and Hit::begin give its ray (the same float operations: 1/d, d[kx] / d[kz], ...), when the packet
+/// takes the fast path: every active ray with t_min >= 0, no origin coordinate subnormal (BoxTestOrigin's shift),
+/// and the same axes kx, ky, kz in the watertight test. `fast` is false otherwise, and the packet is prepared ray by
+/// ray instead.
+template <class S>
+struct PacketLanes {
+  using F = typename S::F;
+  F origin[3], direction[3], inv_direction[3], t_min;
+  alignas(32) float far[kPacketSize];  ///< Hit::begin's t: the exclusive far bound per lane
+  int active = 0;                       ///< lanes with a ray that is not void
+  bool fast = false;
+  int axes[3] = {0, 1, 2};  ///< kx, ky, kz shared by the active rays (fast path only)
+  TrianglePacket<S> triangle;  ///< origin in the shared axes, shear and t_min per lane (fast path only)
+
+  explicit PacketLanes(const Ray* rays) {
+    alignas(32) float field[8][kPacketSize];  // ox oy oz t_min dx dy dz t_max, as the 32-byte Ray record
+    for (int i = 0; i < kPacketSize; ++i) {
+      const float* r = &rays[i].origin.x;
+      for (int f = 0; f < 8; ++f) field[f][i] = r[f];
+    }
+    const F inf = S::set1(std::numeric_limits<float>::infinity());
+    const F sign_bit = S::set1(-0.0f);
+    const F zero = S::zero();
+    F valid = S::all_ones();
+    F nonzero = S::zero();
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = S::load(field[a]);
+      direction[a] = S::load(field[4 + a]);
+      // is_valid_ray: finite components (|x| < inf is false for NaN), a nonzero direction
+      valid = S::bit_and(valid, S::bit_and(S::lt(S::and_not(sign_bit, origin[a]), inf),
+                                           S::lt(S::and_not(sign_bit, direction[a]), inf)));
+      nonzero = S::bit_or(nonzero, S::neq(direction[a], zero));
+    }
+    const F ray_t_min = S::load(field[3]);
+    const F ray_t_max = S::load(field[7]);
+    valid = S::bit_and(S::bit_and(valid, nonzero), S::le(ray_t_min, ray_t_max));  // false for a NaN bound
+    active = S::movemask(valid);
+    t_min = S::blend(inf, ray_t_min, valid);
+    alignas(32) float t_max[kPacketSize];
+    S::store(t_max, S::blend(S::sub(zero, inf), ray_t_max, valid));
+    for (int i = 0; i < kPacketSize; ++i) far[i] = next_float_up(t_max[i]);
+    const F one = S::set1(1.0f);
+    for (int a = 0; a < 3; ++a) inv_direction[a] = S::div(one, direction[a]);
+    if (!active || (S::movemask(S::ge(t_min, zero)) & active) != active) return;
+    // BoxTestOrigin moves subnormal origin coordinates (0 < |o| < FLT_MIN where 1/d is finite): not here.
+    for (int a = 0; a < 3; ++a) {
+      const F abs_o = S::and_not(sign_bit, origin[a]);
+      const F subnormal = S::bit_and(S::bit_and(S::gt(abs_o, zero), S::lt(abs_o, S::set1(FLT_MIN))),
+                                     S::lt(S::and_not(sign_bit, inv_direction[a]), inf));
+      if (S::movemask(subnormal) & active) return;
+    }
+    // kz = max_axis(|d|) (ties to the lower axis), the same in every active lane, and the same sign of d[kz].
+    const F ax = S::and_not(sign_bit, direction[0]), ay = S::and_not(sign_bit, direction[1]),
+            az = S::and_not(sign_bit, direction[2]);
+    const int x_max = S::movemask(S::bit_and(S::ge(ax, ay), S::ge(ax, az))) & active;
+    const int y_max = S::movemask(S::ge(ay, az)) & active & ~x_max;
+    const int kz = x_max == active ? 0 : y_max == active ? 1 : (x_max | y_max) == 0 ? 2 : -1;
+    if (kz < 0) return;
+    const int negative = S::movemask(S::lt(direction[kz], zero)) & active;
+    if (negative != 0 && negative != active) return;
+    axes[2] = kz;
+    axes[0] = (kz + 1) % 3;
+    axes[1] = (axes[0] + 1) % 3;
+    if (negative) std::swap(axes[0], axes[1]);
+    const F dz = direction[kz];  // nonzero in every active lane (the largest of a nonzero direction)
+    for (int a = 0; a < 3; ++a) triangle.origin_k[a] = origin[axes[a]];
+    triangle.shear_x = S::div(direction[axes[0]], dz);
+    triangle.shear_y = S::div(direction[axes[1]], dz);
+    triangle.shear_z = S::div(one, dz);
+    triangle.t_min = t_min;
+    fast = true;
+  }
+};
+
+template <class S>
+inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
+  using F = typename S::F;
+  std::array<Ray, kPacketSize> rays;
+  for (int i = 0; i < kPacketSize; ++i) rays[i] = i < count ? packet_rays[i] : void_ray();
+  const PacketLanes<S> lanes_in(rays.data());
+  std::array<Hit, kPacketSize> hit;
+  for (int i = 0; i < kPacketSize; ++i) hit[i].t = lanes_in.far[i];
+  NoStats none;
+  if (lanes_in.active && !lanes_in.fast) {
+    // Rays starting behind their origin, subnormal origin coordinates or rays of different axes (rare in coherent
+    // packets): ray by ray, with the single-ray traversal.
+    const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays.data(), std::make_index_sequence<8>{});
+    for (int i = 0; i < kPacketSize; ++i) {
+      if (lanes_in.active >> i & 1) traverse<BoxKernel8, false>(nodes8_, prepared[i], hit[i], none);
+    }
+  } else if (lanes_in.active) {
+    // With the same direction signs in every active ray (coherent packets almost always), each axis's near plane is
+    // the same in every lane and is read directly; otherwise each lane selects its own.
+    int near_offset[3];
+    bool same_signs = true;
+    for (int a = 0; a < 3; ++a) {
+      const int negative = S::movemask(lanes_in.direction[a]) & lanes_in.active;  // sign bits, -0 included
+      same_signs &= negative == 0 || negative == lanes_in.active;
+      near_offset[a] = negative ? 1 : 0;
+    }
+    const auto trace = [&]<bool kSameSigns>() {
+      const F* o = lanes_in.origin;
+      const F* inv = lanes_in.inv_direction;
+      const F* near_is_hi = lanes_in.direction;  // the sign bit of d selects the near plane, as PreparedRay::negative
+      const F t_min = lanes_in.t_min;
+      // BoxKernel's widening for t_min >= 0 (no lane is shifted on this path).
+      const F down = S::set1(kSlabWidenDown), up = S::set1(kSlabWidenUp);
+      F far_bound = S::load(lanes_in.far);
+
+      struct alignas(32) Entry {
+        float t_entry[kPacketSize];  ///< each ray's entry distance into the subtree (meaningful in `lanes` only)
+        std::uint32_t ref;
+        int lanes;  ///< the rays that met the subtree's box
+      };
+      Entry stack[kStackSize];
+      int top = 0;
+      std::uint32_t ref = root_;
+      int lanes = lanes_in.active;
+      F entry = t_min;
+      for (;;) {
+        if (ref & kLeafBit) {
+          // One triangle against the rays that met the leaf's box and have not hit anything nearer.
+          const int leaf_rays = lanes & S::movemask(S::le(entry, far_bound));
+          if (leaf_rays) {
+            const std::uint32_t end = leaf_first_block(ref) + leaf_block_count(ref);
+            for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
+              const Triangle4& block = blocks_[b];
+              for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
+                intersect_triangle_rays<S>(lanes_in.triangle, rays.data(), leaf_rays, lanes_in.axes, block, j,
+                                           hit.data(), far_bound);
+              }
+            }
+          }
+        } else {
+          const Node<kPacketSize>& node = nodes8_[ref];
+          const F lane_mask = S::lanes_from_bits(lanes);
+          // The children met, in order of their nearest entry.
+          alignas(32) float child_entry[kPacketSize][kPacketSize];
+          float nearest[kPacketSize];
+          int child_lanes[kPacketSize];
+          int met[kPacketSize];
+          int met_count = 0;
+          for (int c = 0; c < kPacketSize && node.child[c] != kEmptyChild; ++c) {
+            F t_near = t_min;
+            F t_far = far_bound;
+            for (int a = 0; a < 3; ++a) {
+              F near_plane, far_plane;
+              if constexpr (kSameSigns) {
+                near_plane = S::broadcast(&node.bounds[a][near_offset[a]][c]);
+                far_plane = S::broadcast(&node.bounds[a][1 - near_offset[a]][c]);
+              } else {
+                const F lo = S::broadcast(&node.bounds[a][0][c]);
+                const F hi = S::broadcast(&node.bounds[a][1][c]);
+                near_plane = S::blend(lo, hi, near_is_hi[a]);
+                far_plane = S::blend(hi, lo, near_is_hi[a]);
+              }
+              const F t0 = S::mul(S::sub(near_plane, o[a]), inv[a]);
+              const F t1 = S::mul(S::sub(far_plane, o[a]), inv[a]);
+              t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound, as in BoxKernel::intersect
+              t_far = S::min(t1, t_far);
+            }
+            t_near = S::mul(t_near, down);
+            t_far = S::mul(t_far, up);
+            const F meets = S::bit_and(S::le(t_near, t_far), lane_mask);
+            const int bits = S::movemask(meets);
+            if (!bits) continue;
+            S::store(child_entry[c], t_near);
+            const float d = S::horizontal_min(S::blend(S::set1(std::numeric_limits<float>::infinity()), t_near, meets));
+            // Insertion by nearest entry, farthest first, so the nearest is taken from the end.
+            int k = met_count++;
+            for (; k > 0 && nearest[met[k - 1]] < d; --k) met[k] = met[k - 1];
+            met[k] = c;
+            nearest[c] = d;
+            child_lanes[c] = bits;
+          }
+          if (met_count > 0) {
+            for (int k = 0; k < met_count - 1; ++k) {
+              const int c = met[k];
+              Entry& e = stack[top++];
+              S::store(e.t_entry, S::load(child_entry[c]));
+              e.ref = node.child[c];
+              e.lanes = child_lanes[c];
+            }
+            const int c = met[met_count - 1];
+            ref = node.child[c];
+            lanes = child_lanes[c];
+            entry = S::load(child_entry[c]);
+            continue;
+          }
+        }
+        // Pop the next subtree that some ray still needs: entered before that ray's closest hit.
+        for (;;) {
+          if (top == 0) return;
+          const Entry& e = stack[--top];
+          const F e_entry = S::load(e.t_entry);
+          const int still = e.lanes & S::movemask(S::le(e_entry, far_bound));
+          if (still) {
+            ref = e.ref;
+            lanes = still;
+            entry = e_entry;
+            break;
+          }
+        }
+      }
+    };
+    if (same_signs) {
+      trace.template operator()<true>();
+    } else {
+      trace.template operator()<false>();
+    }
+  }
+  for (int i = 0; i < count; ++i) {
+    hit[i].finish();
+    hits[i] = hit[i];
+  }
+}
+
+__attribute__((target("avx2"), flatten)) void WideBvh::trace_packet_avx2(const Ray* rays, int count,
+                                                                         Hit* hits) const {
+  trace_packet<Avx8>(rays, count, hits);
+}
+
+__attribute__((target("avx2,avx512f,avx512vl,avx512dq,avx512bw"), flatten)) void WideBvh::trace_packet_avx512(
+    const Ray* rays, int count, Hit* hits) const {
+  trace_packet<Avx8>(rays, count, hits);
+}
+#pragma GCC diagnostic pop
+
+void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (width_ != 8 || !triangles_ || root_ == kEmptyChild) {
+    intersect(rays, hits);  // no packet traversal for four-wide nodes or other primitives: one by one
+    return;
+  }
+  detail::check_batch_sizes(rays.size(), hits.size(), 0);
+  const std::size_t packets = (rays.size() + kPacketSize - 1) / kPacketSize;
+  detail::parallel_for_rays(packets, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t p = begin; p < end; ++p) {
+      const std::size_t first = p * kPacketSize;
+      const int count = static_cast<int>(std::min<std::size_t>(kPacketSize, rays.size() - first));
+      if (avx512_) {
+        trace_packet_avx512(rays.data() + first, count, hits.data() + first);
+      } else {
+        trace_packet_avx2(rays.data() + first, count, hits.data() + first);
+      }
+    }
+  });
+}
+
+}  // namespace rayaccel::wide
