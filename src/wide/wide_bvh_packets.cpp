@@ -115,16 +115,20 @@ struct PacketLanes {
 template <class S>
 inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
   using F = typename S::F;
-  std::array<Ray, kPacketSize> rays;
-  for (int i = 0; i < kPacketSize; ++i) rays[i] = i < count ? packet_rays[i] : void_ray();
-  const PacketLanes<S> lanes_in(rays.data());
+  std::array<Ray, kPacketSize> padded;  // a last, partial packet: void rays in the missing lanes
+  const Ray* rays = packet_rays;
+  if (count < kPacketSize) {
+    for (int i = 0; i < kPacketSize; ++i) padded[i] = i < count ? packet_rays[i] : void_ray();
+    rays = padded.data();
+  }
+  const PacketLanes<S> lanes_in(rays);
   std::array<Hit, kPacketSize> hit;
   for (int i = 0; i < kPacketSize; ++i) hit[i].t = lanes_in.far[i];
   NoStats none;
   if (lanes_in.active && !lanes_in.fast) {
     // Rays starting behind their origin, subnormal origin coordinates or rays of different axes (rare in coherent
     // packets): ray by ray, with the single-ray traversal.
-    const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays.data(), std::make_index_sequence<8>{});
+    const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays, std::make_index_sequence<8>{});
     for (int i = 0; i < kPacketSize; ++i) {
       if (lanes_in.active >> i & 1) traverse<BoxKernel8, false>(nodes8_, prepared[i], hit[i], none);
     }
@@ -166,7 +170,7 @@ inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) 
             for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
               const Triangle4& block = blocks_[b];
               for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
-                intersect_triangle_rays<S>(lanes_in.triangle, rays.data(), leaf_rays, lanes_in.axes, block, j,
+                intersect_triangle_rays<S>(lanes_in.triangle, rays, leaf_rays, lanes_in.axes, block, j,
                                            hit.data(), far_bound);
               }
             }
@@ -249,10 +253,9 @@ inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) 
       trace.template operator()<false>();
     }
   }
-  for (int i = 0; i < count; ++i) {
-    hit[i].finish();
-    hits[i] = hit[i];
-  }
+  // Each record written whole (Hit::finish() on a copy would store fields and then reload the record, a store
+  // forwarding stall per ray); a miss is Hit{}, which is what finish() makes of it.
+  for (int i = 0; i < count; ++i) hits[i] = hit[i].found() ? hit[i] : Hit{};
 }
 
 __attribute__((target("avx2"), flatten)) void WideBvh::trace_packet_avx2(const Ray* rays, int count,
