@@ -1,5 +1,5 @@
-// Micro-benchmarks of the wide BVH's kernels: one ray against the 4 or 8 child boxes of a node (SSE, AVX2) and
-// against 4 or 8 triangles (Triangle4 block with SSE, two blocks with AVX2). Time per call; the per-ray constants are
+// Micro-benchmarks of the wide BVH's kernels: one ray against the 4 or 8 child boxes of a node (SSE, AVX2), against
+// 4 or 8 triangles (Triangle4 block with SSE, two blocks with AVX2), and one triangle against a packet's 8 rays. Time per call; the per-ray constants are
 // made once per ray, as traversal does.
 #include <benchmark/benchmark.h>
 
@@ -132,6 +132,61 @@ void BM_TriangleLanes8(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kItems);  // blocks of 4 triangles, tested two at a time
 }
 BENCHMARK(BM_TriangleLanes8);
+
+/// Eight coherent rays (one origin, targets around the triangles; all with the same axes kx, ky, kz) with the
+/// packet's per-lane constants, as the packet traversal holds them.
+std::vector<Ray> make_coherent_rays() {
+  std::mt19937 rng(4);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 8 * kRays; ++i) {
+    const Vec3 o{0.1f, -0.2f, 3.0f};
+    const Vec3 target{uniform(rng, -0.5f, 0.5f), uniform(rng, -0.5f, 0.5f), uniform(rng, -0.5f, 0.5f)};
+    rays.push_back({o, 0.0f, target - o, 1e30f});
+  }
+  return rays;
+}
+
+__attribute__((target("avx2"), flatten)) int triangle_rays_pass(const Ray* rays,
+                                                                 const std::vector<Triangle4>& blocks) {
+  alignas(32) float lane[7][8];
+  const PreparedRay first(rays[0]);
+  const int axes[3] = {first.kx, first.ky, first.kz};
+  Hit hits[8];
+  for (int i = 0; i < 8; ++i) {
+    const PreparedRay r(rays[i]);
+    for (int a = 0; a < 3; ++a) lane[a][i] = r.origin[axes[a]];
+    lane[3][i] = r.shear_x;
+    lane[4][i] = r.shear_y;
+    lane[5][i] = r.shear_z;
+    lane[6][i] = r.t_min;
+    hits[i] = Hit::begin(r);
+  }
+  TrianglePacket<Avx8> p;
+  for (int a = 0; a < 3; ++a) p.origin_k[a] = Avx8::load(lane[a]);
+  p.shear_x = Avx8::load(lane[3]);
+  p.shear_y = Avx8::load(lane[4]);
+  p.shear_z = Avx8::load(lane[5]);
+  p.t_min = Avx8::load(lane[6]);
+  alignas(32) float far[8];
+  for (int i = 0; i < 8; ++i) far[i] = hits[i].t;
+  __m256 t_far = Avx8::load(far);
+  int updated = 0;
+  for (const auto& b : blocks) {
+    for (int j = 0; j < 4; ++j) updated |= intersect_triangle_rays<Avx8>(p, rays, 0xFF, axes, b, j, hits, t_far);
+  }
+  return updated;
+}
+
+void BM_TriangleRays8(benchmark::State& state) {
+  if (!cpu_has_avx2()) return state.SkipWithError("no AVX2 on this CPU");
+  const auto rays = make_coherent_rays();
+  const auto blocks = make_blocks();
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(triangle_rays_pass(&rays[8 * (i++ % kRays)], blocks));
+  // Items as above (four ray-triangle tests each): every block against eight rays, one triangle at a time.
+  state.SetItemsProcessed(state.iterations() * kItems * 8);
+}
+BENCHMARK(BM_TriangleRays8);
 
 }  // namespace
 }  // namespace rayaccel::wide
