@@ -1,4 +1,4 @@
-// Batches (intersect/occluded over spans, run as TBB tasks) answer exactly as single-ray calls on the calling thread,
+// Batches (intersect/occluded/intersect_packets over spans, run as TBB tasks) answer exactly as single-ray calls on the calling thread,
 // in the caller's floating-point environment, whatever environment TBB's own contexts captured earlier (Embree's
 // build, for one, leaves flush-to-zero and denormals-are-zero in them).
 #include <gtest/gtest.h>
@@ -51,11 +51,15 @@ void expect_batches_match_single_calls(const Accelerator& accel, const std::vect
   accel.intersect(rays, hits);
   std::vector<std::uint8_t> occluded(rays.size());
   accel.occluded(rays, occluded);
+  std::vector<Hit> packet_hits(rays.size());
+  accel.intersect_packets(rays, packet_hits);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Hit single = accel.intersect(rays[i]);
     ASSERT_EQ(single.found(), expect_found) << "ray " << i;
     EXPECT_EQ(hits[i].found(), single.found()) << "ray " << i;
     EXPECT_EQ(hits[i].t, single.t) << "ray " << i;
+    EXPECT_EQ(packet_hits[i].found(), single.found()) << "packet ray " << i;
+    EXPECT_EQ(packet_hits[i].t, single.t) << "packet ray " << i;
     EXPECT_EQ(occluded[i] != 0, accel.occluded(rays[i])) << "ray " << i;
   }
 }
