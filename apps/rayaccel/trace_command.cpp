@@ -1,5 +1,5 @@
 // `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), traces a .rays file R times
-// with the batch API (median time), optionally writes the .hits (or .occ) file, and prints one JSON summary line.
+// with the batch API (median time; --packets: the packet batch), optionally writes the .hits (or .occ) file, and prints one JSON summary line.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -21,6 +21,7 @@ struct TraceArgs {
   std::string rays;
   std::string accel;
   bool occlusion = false;
+  bool packets = false;
   int threads = 0;
   int repeat = 5;
   std::string out;
@@ -31,6 +32,9 @@ constexpr int kBuilds = 3;
 int run_trace(const TraceArgs& args, bool threads_given) {
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   require_range(args.repeat, 1, 1000000, "--repeat");
+  if (args.packets && args.occlusion) {
+    throw UsageError("--packets traces closest hits (intersect_packets()); it cannot be combined with --occlusion");
+  }
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
   const ThreadLimit limit(threads_given ? args.threads : 0);
@@ -54,6 +58,8 @@ int run_trace(const TraceArgs& args, bool threads_given) {
     const Stopwatch clock;
     if (args.occlusion) {
       accel->occluded(rays, occluded);
+    } else if (args.packets) {
+      accel->intersect_packets(rays, hits);
     } else {
       accel->intersect(rays, hits);
     }
@@ -78,7 +84,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       {"scene", scene.name()},
       {"primitives", scene.primitive_count()},
       {"rays", rays.size()},
-      {"query", args.occlusion ? "occluded" : "intersect"},
+      {"query", args.occlusion ? "occluded" : args.packets ? "intersect_packets" : "intersect"},
       {"threads", ThreadLimit::active()},
       {"build_ms_median", median(build_ms)},
       {"build_ms", build_ms},
@@ -102,6 +108,9 @@ Command add_trace_command(CLI::App& root) {
   app->add_option("rays", args->rays, ".rays file (32 bytes per ray: ox oy oz tmin dx dy dz tmax)")->required();
   app->add_option("--accel", args->accel, "Structure spec NAME[:key=value,...] (see 'rayaccel list'); default bvh");
   app->add_flag("--occlusion", args->occlusion, "Any-hit queries (occluded()); writes a .occ file");
+  app->add_flag("--packets", args->packets,
+                "Closest hits of coherent rays, each run of eight consecutive rays traced as one packet "
+                "(intersect_packets(); structures without a packet traversal trace them one by one)");
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for build and trace (>= 1)");
   app->add_option("--repeat", args->repeat, "Timed passes over all rays (median reported)")->capture_default_str();
   app->add_option("--out", args->out, "Output .hits file (.occ with --occlusion)");
