@@ -98,6 +98,17 @@ SmallCase make_small_case() {
   return c;
 }
 
+/// Brute force's closest hits of the case's rays, read back from its files.
+std::vector<Hit> brute_force_hits(const SmallCase& c) {
+  const Scene scene = load_scene(c.ply.string());
+  BruteForce oracle;
+  oracle.build(scene);
+  const std::vector<Ray> rays = read_rays(c.rays);
+  std::vector<Hit> hits(rays.size());
+  oracle.intersect(rays, hits);
+  return hits;
+}
+
 nlohmann::json last_line_json(const std::string& out) {
   std::istringstream lines(out);
   std::string line, last;
@@ -115,11 +126,8 @@ TEST(CliTrace, HitsFileEqualsInProcessBruteForce) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
 
   const Scene scene = load_scene(c.ply.string());
-  BruteForce oracle;
-  oracle.build(scene);
   const std::vector<Ray> rays = read_rays(c.rays);
-  std::vector<Hit> expected(rays.size());
-  oracle.intersect(rays, expected);
+  const std::vector<Hit> expected = brute_force_hits(c);
   const std::vector<Hit> got = read_hits(out);
   ASSERT_EQ(got.size(), expected.size());
   std::size_t found = 0;
@@ -149,12 +157,7 @@ TEST(CliTrace, PacketsGiveTheClosestHits) {
   const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "bvh_wide", "--packets",
                                "--repeat", "1", "--out", out.string()});
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const Scene scene = load_scene(c.ply.string());
-  BruteForce oracle;
-  oracle.build(scene);
-  const std::vector<Ray> rays = read_rays(c.rays);
-  std::vector<Hit> expected(rays.size());
-  oracle.intersect(rays, expected);
+  const std::vector<Hit> expected = brute_force_hits(c);
   const std::vector<Hit> got = read_hits(out);
   ASSERT_EQ(got.size(), expected.size());
   for (std::size_t i = 0; i < got.size(); ++i) {

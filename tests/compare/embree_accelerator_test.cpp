@@ -43,6 +43,14 @@ std::vector<Ray> random_rays(std::size_t count) {
   return rays;
 }
 
+/// One triangle in the plane z = 2 around the z axis, for the hit-interval tests.
+Scene triangle_at_z2() {
+  TriangleMesh mesh;
+  mesh.vertices = {{-1.0f, -1.0f, 2.0f}, {1.0f, -1.0f, 2.0f}, {0.0f, 1.0f, 2.0f}};
+  mesh.triangles = {{0, 1, 2}};
+  return Scene::from_mesh(mesh);
+}
+
 bool agrees(const Hit& a, const Hit& b) {
   if (a.found() != b.found()) return false;
   if (!a.found() || a.prim_id == b.prim_id) return true;
@@ -103,10 +111,7 @@ TEST(EmbreeAccelerator, MissesAndVoidRaysGiveTheMissRecord) {
 }
 
 TEST(EmbreeAccelerator, HonoursTheHitInterval) {
-  TriangleMesh mesh;
-  mesh.vertices = {{-1.0f, -1.0f, 2.0f}, {1.0f, -1.0f, 2.0f}, {0.0f, 1.0f, 2.0f}};
-  mesh.triangles = {{0, 1, 2}};
-  const Scene scene = Scene::from_mesh(mesh);
+  const Scene scene = triangle_at_z2();
   EmbreeAccelerator embree;
   embree.build(scene);
   const Ray exact{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 2.0f};  // t = t_max counts
@@ -177,10 +182,7 @@ TEST(EmbreeAccelerator, PacketsAgreeWithSingleRays) {
 }
 
 TEST(EmbreeAccelerator, PacketsHonourTheHitInterval) {
-  TriangleMesh mesh;
-  mesh.vertices = {{-1.0f, -1.0f, 2.0f}, {1.0f, -1.0f, 2.0f}, {0.0f, 1.0f, 2.0f}};
-  mesh.triangles = {{0, 1, 2}};
-  const Scene scene = Scene::from_mesh(mesh);
+  const Scene scene = triangle_at_z2();
   EmbreeAccelerator embree;
   embree.build(scene);
   const std::vector<Ray> rays = {

@@ -280,6 +280,13 @@ struct WatertightLanes {
     hits = S::movemask(valid) & ~on_edge;
     return true;
   }
+
+  /// t, u and v of every lane (meaningful in the lanes of `hits`).
+  void store_hits(float* t_lane, float* u_lane, float* v_lane) const {
+    S::store(t_lane, t);
+    S::store(u_lane, S::mul(ev, inv_det));
+    S::store(v_lane, S::mul(ew, inv_det));
+  }
 };
 
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
@@ -304,9 +311,7 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
   bool updated = false;
   if (lanes.hits) {
     float t_lane[W], u_lane[W], v_lane[W];
-    S::store(t_lane, lanes.t);
-    S::store(u_lane, S::mul(lanes.ev, lanes.inv_det));
-    S::store(v_lane, S::mul(lanes.ew, lanes.inv_det));
+    lanes.store_hits(t_lane, u_lane, v_lane);
     for (int rest = lanes.hits; rest; rest &= rest - 1) {
       const int lane = __builtin_ctz(static_cast<unsigned>(rest));
       if (t_lane[lane] < hit.t) {
@@ -357,9 +362,7 @@ inline int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* s
   int updated = 0;
   if (lanes.hits) {
     float t_lane[W], u_lane[W], v_lane[W];
-    S::store(t_lane, lanes.t);
-    S::store(u_lane, S::mul(lanes.ev, lanes.inv_det));
-    S::store(v_lane, S::mul(lanes.ew, lanes.inv_det));
+    lanes.store_hits(t_lane, u_lane, v_lane);
     for (int rest = lanes.hits; rest; rest &= rest - 1) {
       const int lane = __builtin_ctz(static_cast<unsigned>(rest));
       hits[lane] = {t_lane[lane], prim_id, u_lane[lane], v_lane[lane]};  // t < hit.t: the lane's far bound
