@@ -3,12 +3,15 @@
 // traversal, Wald et al. 2014). Each child box is tested against all eight rays in one pass of AVX2 lanes, with the
 // same float operations per lane as the single-ray box test (so a lane meets exactly the boxes its ray would); the
 // packet descends into every child some ray meets, nearest (smallest entry of the rays that meet it) first, and keeps
-// per-ray entry distances on its stack so each ray is culled by its own closest hit. Leaves are tested ray by ray
-// with the single-ray watertight kernel, only for the rays that met the leaf's box, so every answer is a closest hit
-// of the same kernel (a tie in t may keep another primitive than the single-ray order would).
+// per-ray entry distances on its stack so each ray is culled by its own closest hit. Leaves are tested one triangle
+// against the rays that met the leaf's box, each lane doing the watertight kernel's float operations for its ray, so
+// every answer is a closest hit of the same kernel (a tie in t may keep another primitive than the single-ray order
+// would). Packets the fast path does not cover (rays of different axes in the triangle test, t_min < 0, subnormal
+// origin coordinates) are traced ray by ray.
 #include <array>
 #include <cfloat>
 #include <cstddef>
+#include <cstring>
 #include <utility>
 
 #include "rayaccel/wide/wide_bvh.h"
@@ -32,8 +35,6 @@ std::array<PreparedRay, sizeof...(I)> prepare_rays(const Ray* rays, std::index_s
   return {PreparedRay(rays[I])...};
 }
 
-}  // namespace
-
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
@@ -53,9 +54,11 @@ struct PacketLanes {
   TrianglePacket<S> triangle;  ///< origin in the shared axes, shear and t_min per lane (fast path only)
 
   explicit PacketLanes(const Ray* rays) {
-    alignas(32) float field[8][kPacketSize];  // ox oy oz t_min dx dy dz t_max, as the 32-byte Ray record
+    static_assert(sizeof(Ray) == 8 * sizeof(float), "Ray is the record ox oy oz t_min dx dy dz t_max");
+    alignas(32) float field[8][kPacketSize];  // field f of every lane's ray
     for (int i = 0; i < kPacketSize; ++i) {
-      const float* r = &rays[i].origin.x;
+      float r[8];
+      std::memcpy(r, &rays[i], sizeof(Ray));
       for (int f = 0; f < 8; ++f) field[f][i] = r[f];
     }
     const F inf = S::set1(std::numeric_limits<float>::infinity());
@@ -111,6 +114,8 @@ struct PacketLanes {
     fast = true;
   }
 };
+
+}  // namespace
 
 template <class S>
 inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
