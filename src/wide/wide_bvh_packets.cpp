@@ -8,10 +8,12 @@
 // every answer is a closest hit of the same kernel (a tie in t may keep another primitive than the single-ray order
 // would). Packets the fast path does not cover (rays of different axes in the triangle test, t_min < 0, subnormal
 // origin coordinates) are traced ray by ray.
+#include <algorithm>
 #include <array>
 #include <cfloat>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include "rayaccel/wide/wide_bvh.h"
