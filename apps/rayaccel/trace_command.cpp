@@ -1,5 +1,6 @@
 // `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), traces a .rays file R times
-// with the batch API (median time; --packets: the packet batch), optionally writes the .hits (or .occ) file, and prints one JSON summary line.
+// with the batch API (median time; --packets: the packet batch), optionally writes the .hits (or .occ) file, and
+// prints one JSON summary line.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
+#include <algorithm>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -22,6 +23,12 @@ void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, 
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, count, kGrain),
       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, context);
+}
+
+void parallel_for_packets(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+  parallel_for_rays((count + kPacketSize - 1) / kPacketSize, [&](std::size_t begin, std::size_t end) {
+    body(begin * kPacketSize, std::min(end * kPacketSize, count));
+  });
 }
 
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats) {

@@ -216,19 +216,17 @@ void EmbreeAccelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits
 
 void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
-  constexpr std::size_t kLanes = 8;
-  const std::size_t packets = (rays.size() + kLanes - 1) / kLanes;
-  // Split by packet, not by ray, so every chunk starts on a multiple of eight rays.
-  detail::parallel_for_rays(packets, [&](std::size_t begin, std::size_t end) {
+  constexpr std::size_t kLanes = detail::kPacketSize;
+  static_assert(kLanes == 8, "one rtcIntersect8 call per packet");
+  detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
     const EmbreeFloatMode mode;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(32) int valid[kLanes];
     RTCRayHit8 query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
-    for (std::size_t p = begin; p < end; ++p) {
-      const std::size_t first = p * kLanes;
-      const std::size_t count = std::min(kLanes, rays.size() - first);
+    for (std::size_t first = begin; first < end; first += kLanes) {
+      const std::size_t count = std::min(kLanes, end - first);
       bool any = false;
       for (std::size_t lane = 0; lane < kLanes; ++lane) {
         const bool active = lane < count && state_->scene && !cannot_hit(rays[first + lane]);

@@ -22,7 +22,7 @@ namespace rayaccel::wide {
 
 namespace {
 
-constexpr int kPacketSize = 8;
+constexpr int kPacketSize = static_cast<int>(detail::kPacketSize);  // also the node width and the lane count
 
 /// A ray that is void (see PreparedRay): the lanes of a last, partial packet.
 Ray void_ray() {
@@ -282,11 +282,9 @@ void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) 
     return;
   }
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
-  const std::size_t packets = (rays.size() + kPacketSize - 1) / kPacketSize;
-  detail::parallel_for_rays(packets, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t p = begin; p < end; ++p) {
-      const std::size_t first = p * kPacketSize;
-      const int count = static_cast<int>(std::min<std::size_t>(kPacketSize, rays.size() - first));
+  detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t first = begin; first < end; first += detail::kPacketSize) {
+      const int count = static_cast<int>(std::min(detail::kPacketSize, end - first));
       if (avx512_) {
         trace_packet_avx512(rays.data() + first, count, hits.data() + first);
       } else {

@@ -103,6 +103,11 @@ namespace detail {
 /// Runs body(begin, end) over [0, count) in parallel chunks (TBB), every chunk in the calling thread's floating-point
 /// environment (see accelerator.cpp); the one place batches are split.
 void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
+/// Rays per packet of intersect_packets().
+inline constexpr std::size_t kPacketSize = 8;
+/// parallel_for_rays() for intersect_packets(): body(begin, end) gets ray ranges that start at a multiple of
+/// kPacketSize and end at one or at `count`, so no packet is split between chunks.
+void parallel_for_packets(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);
 }  // namespace detail
 
