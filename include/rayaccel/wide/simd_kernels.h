@@ -223,7 +223,8 @@ struct WatertightLanes {
 
   /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
   /// functions or by `decided_miss`.
-  bool test(const F px[3], const F py[3], const F pz[3], F shear_z, F t_min, F t_far, F decided_miss) {
+  bool test(const F px[3], const F py[3], const F pz[3], const F& shear_z, const F& t_min, const F& t_far,
+            const F& decided_miss) {
     // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
     const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
     ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));

@@ -185,73 +185,95 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
   if (root_ == kEmptyChild) return;
   const TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
-  struct Entry {
-    std::uint32_t ref;
-    float t_entry;
-  };
-  Entry stack[kStackSize];
-  int top = 0;
   std::uint32_t ref = root_;
-  for (;;) {
-    stats.visit_node();
-    if (ref & kLeafBit) {
-      if (intersect_leaf<typename Kernel::Lanes, AnyHit>(ref, triangle_packet, ray, hit, stats) &&
-          AnyHit) {
-        return;
-      }
-    } else {
-      const Node<W>& node = nodes[ref];
-      alignas(32) float entry[W];
-      int mask = Kernel::intersect(box_packet, node, hit.t, entry);
-      if (mask) {
-        // The common cases first (Wald et al. 2008 on wide-BVH traversal order): one child met is entered without
-        // touching the stack; of two, the farther is pushed; only three or more are sorted.
-        const int first = __builtin_ctz(static_cast<unsigned>(mask));
-        mask &= mask - 1;
-        if (mask == 0) {
-          ref = node.child[first];
-          continue;
-        }
-        const int second = __builtin_ctz(static_cast<unsigned>(mask));
-        mask &= mask - 1;
-        if (mask == 0) {
-          const bool first_nearer = AnyHit || !(entry[second] < entry[first]);
-          const int near = first_nearer ? first : second;
-          const int far = first_nearer ? second : first;
-          stack[top++] = {node.child[far], entry[far]};
-          ref = node.child[near];
-          continue;
-        }
-        // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
-        // the nearest is taken straight back off the top. Gathering them elsewhere and copying cost a memcpy call.
-        Entry* met = stack + top;
-        met[0] = {node.child[first], entry[first]};
-        met[1] = {node.child[second], entry[second]};
-        if constexpr (!AnyHit) {
-          if (met[0].t_entry < met[1].t_entry) std::swap(met[0], met[1]);
-        }
-        int n = 2;
-        for (; mask; mask &= mask - 1) {
-          const int lane = __builtin_ctz(static_cast<unsigned>(mask));
-          const Entry e{node.child[lane], entry[lane]};
-          int i = n++;
-          if constexpr (!AnyHit) {
-            for (; i > 0 && met[i - 1].t_entry < e.t_entry; --i) met[i] = met[i - 1];
-          }
-          met[i] = e;
-        }
-        top += n - 1;
-        ref = met[n - 1].ref;
-        continue;
-      }
-    }
-    // Pop the next subtree whose entry is not beyond the closest hit so far.
+  if constexpr (AnyHit) {
+    // Any hit: the far bound stays hit.t until the first hit ends the query, so nothing on the stack can be culled
+    // by a closer hit: it holds bare references, and the children met are taken in lane order (the first entered,
+    // the others pushed), as ordering them by distance did not pay (BENCHMARKS.md).
+    const float t_far = hit.t;
+    std::uint32_t pending[kStackSize];
+    int count = 0;
     for (;;) {
-      if (top == 0) return;
-      const Entry& e = stack[--top];
-      if (!(e.t_entry > hit.t)) {
-        ref = e.ref;
-        break;
+      stats.visit_node();
+      if (ref & kLeafBit) {
+        if (intersect_leaf<typename Kernel::Lanes, true>(ref, triangle_packet, ray, hit, stats)) return;
+      } else {
+        const Node<W>& node = nodes[ref];
+        alignas(32) float entry[W];  // not needed here
+        int mask = Kernel::intersect(box_packet, node, t_far, entry);
+        if (mask) {
+          ref = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
+          for (mask &= mask - 1; mask; mask &= mask - 1) {
+            pending[count++] = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
+          }
+          continue;
+        }
+      }
+      if (count == 0) return;
+      ref = pending[--count];
+    }
+  } else {
+    // Closest hit: children near-first, each stack entry with its entry distance, culled on pop by the closest hit.
+    struct Entry {
+      std::uint32_t ref;
+      float t_entry;
+    };
+    Entry stack[kStackSize];
+    int top = 0;
+    for (;;) {
+      stats.visit_node();
+      if (ref & kLeafBit) {
+        intersect_leaf<typename Kernel::Lanes, false>(ref, triangle_packet, ray, hit, stats);
+      } else {
+        const Node<W>& node = nodes[ref];
+        alignas(32) float entry[W];
+        int mask = Kernel::intersect(box_packet, node, hit.t, entry);
+        if (mask) {
+          // The common cases first (Wald et al. 2008 on wide-BVH traversal order): one child met is entered
+          // without touching the stack; of two, the farther is pushed; only three or more are sorted.
+          const int first = __builtin_ctz(static_cast<unsigned>(mask));
+          mask &= mask - 1;
+          if (mask == 0) {
+            ref = node.child[first];
+            continue;
+          }
+          const int second = __builtin_ctz(static_cast<unsigned>(mask));
+          mask &= mask - 1;
+          if (mask == 0) {
+            const bool first_nearer = !(entry[second] < entry[first]);
+            const int near = first_nearer ? first : second;
+            const int far = first_nearer ? second : first;
+            stack[top++] = {node.child[far], entry[far]};
+            ref = node.child[near];
+            continue;
+          }
+          // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
+          // the nearest is taken straight back off the top. Gathering them elsewhere and copying cost a memcpy.
+          Entry* met = stack + top;
+          met[0] = {node.child[first], entry[first]};
+          met[1] = {node.child[second], entry[second]};
+          if (met[0].t_entry < met[1].t_entry) std::swap(met[0], met[1]);
+          int n = 2;
+          for (; mask; mask &= mask - 1) {
+            const int lane = __builtin_ctz(static_cast<unsigned>(mask));
+            const Entry e{node.child[lane], entry[lane]};
+            int i = n++;
+            for (; i > 0 && met[i - 1].t_entry < e.t_entry; --i) met[i] = met[i - 1];
+            met[i] = e;
+          }
+          top += n - 1;
+          ref = met[n - 1].ref;
+          continue;
+        }
+      }
+      // Pop the next subtree whose entry is not beyond the closest hit so far.
+      for (;;) {
+        if (top == 0) return;
+        const Entry& e = stack[--top];
+        if (!(e.t_entry > hit.t)) {
+          ref = e.ref;
+          break;
+        }
       }
     }
   }
