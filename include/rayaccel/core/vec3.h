@@ -53,5 +53,11 @@ constexpr float max_component(const Vec3& a) { return std::max(a.x, std::max(a.y
 constexpr float min_component(const Vec3& a) { return std::min(a.x, std::min(a.y, a.z)); }
 /// Index of the largest component (ties go to the lower axis).
 constexpr int max_axis(const Vec3& a) { return (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2); }
+/// v[axis] for an axis known only at run time, without branches (Vec3's operator[] compares the axis, and a ray's
+/// kx, ky, kz vary from ray to ray): an indexed load from a copy.
+inline float component(const Vec3& v, int axis) {
+  const float c[3] = {v.x, v.y, v.z};
+  return c[axis];
+}
 
 }  // namespace rayaccel

@@ -201,7 +201,8 @@ struct TrianglePacket {
   typename S::F shear_x, shear_y, shear_z, t_min;
   TrianglePacket() = default;  ///< for a packet of rays, one per lane (the packet traversal fills the lanes)
   explicit TrianglePacket(const PreparedRay& r)
-      : origin_k{S::set1(r.origin[r.kx]), S::set1(r.origin[r.ky]), S::set1(r.origin[r.kz])},
+      : origin_k{S::set1(component(r.origin, r.kx)), S::set1(component(r.origin, r.ky)),
+                 S::set1(component(r.origin, r.kz))},
         shear_x(S::set1(r.shear_x)),
         shear_y(S::set1(r.shear_y)),
         shear_z(S::set1(r.shear_z)),

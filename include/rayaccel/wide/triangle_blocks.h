@@ -90,7 +90,16 @@ template <class Lanes, bool AnyHit, bool Mailbox, class Stats>
 inline bool intersect_block_run(const TrianglePacket<Lanes>& packet, const PreparedRay& ray, const Triangle4* blocks,
                                 std::uint32_t count, BlockMailbox& mailbox, Hit& hit, Stats& stats) {
   bool found = false;
-  if constexpr (Lanes::kWidth == 8) {
+  if constexpr (Lanes::kWidth == 8 && !Mailbox) {
+    // Consecutive blocks in pairs; an odd last block is paired with itself (see below), chosen without a branch.
+    for (std::uint32_t b = 0; b < count; b += 2) {
+      const bool both = b + 1 < count;
+      const Triangle4* pair[2] = {&blocks[b], &blocks[both ? b + 1 : b]};
+      stats.test_primitive(both ? 8 : 4);
+      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
+      if (AnyHit && found) return true;
+    }
+  } else if constexpr (Lanes::kWidth == 8) {
     const Triangle4* pair[2];
     int pending = 0;
     for (std::uint32_t b = 0; b < count; ++b) {
