@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <random>
+#include <utility>
+#include <vector>
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
@@ -77,6 +81,54 @@ TEST(PreparedRay, ShearAxesFollowTheDominantComponent) {
     const PreparedRay r(Ray{{0, 0, 0}, 0.0f, d, kInf});
     EXPECT_EQ(r.kx + r.ky + r.kz, 3) << "a permutation of the axes";
     EXPECT_EQ(std::fabs(d[r.kz]), std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))));
+  }
+}
+
+/// The watertight test's axes and shear as Woop et al. define them, written with branches on the axis (the form
+/// PreparedRay had before its set-up was made branch-free): kz the dominant axis (ties to the lower one), kx and ky
+/// the next two in cyclic order, swapped when d[kz] < 0, shear constants d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz].
+struct ReferenceShear {
+  int kx, ky, kz;
+  float shear_x, shear_y, shear_z;
+  explicit ReferenceShear(const Vec3& d) {
+    const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
+    kz = (ad.x >= ad.y && ad.x >= ad.z) ? 0 : (ad.y >= ad.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (d[kz] < 0.0f) std::swap(kx, ky);
+    const float dz = d[kz] != 0.0f ? d[kz] : 1.0f;
+    shear_x = d[kx] / dz;
+    shear_y = d[ky] / dz;
+    shear_z = 1.0f / dz;
+  }
+};
+
+TEST(PreparedRay, ShearSetUpMatchesTheDefinitionBitForBit) {
+  // Every combination of signs, ties between components, zeros of both signs, tiny and huge magnitudes, and NaN.
+  const float magnitudes[] = {0.0f, 1e-40f, 0.25f, 1.0f, 3.0f, 1e30f, kInf, kNaN};
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> uniform(-4.0f, 4.0f);
+  std::vector<Vec3> directions;
+  for (float a : magnitudes) {
+    for (float b : magnitudes) {
+      for (float c : magnitudes) {
+        for (int signs = 0; signs < 8; ++signs) {
+          directions.push_back({signs & 1 ? -a : a, signs & 2 ? -b : b, signs & 4 ? -c : c});
+        }
+      }
+    }
+  }
+  for (int i = 0; i < 20000; ++i) directions.push_back({uniform(random), uniform(random), uniform(random)});
+  const auto same_bits = [](float x, float y) { return std::memcmp(&x, &y, sizeof(float)) == 0; };
+  for (const Vec3& d : directions) {
+    const PreparedRay r(Ray{{0, 0, 0}, 0.0f, d, kInf});
+    const ReferenceShear want(d);
+    ASSERT_EQ(r.kz, want.kz) << d.x << " " << d.y << " " << d.z;
+    ASSERT_EQ(r.kx, want.kx) << d.x << " " << d.y << " " << d.z;
+    ASSERT_EQ(r.ky, want.ky) << d.x << " " << d.y << " " << d.z;
+    ASSERT_TRUE(same_bits(r.shear_x, want.shear_x)) << d.x << " " << d.y << " " << d.z;
+    ASSERT_TRUE(same_bits(r.shear_y, want.shear_y)) << d.x << " " << d.y << " " << d.z;
+    ASSERT_TRUE(same_bits(r.shear_z, want.shear_z)) << d.x << " " << d.y << " " << d.z;
   }
 }
 
