@@ -84,9 +84,9 @@ TEST(PreparedRay, ShearAxesFollowTheDominantComponent) {
   }
 }
 
-/// The watertight test's axes and shear as Woop et al. define them, written with branches on the axis (the form
-/// PreparedRay had before its set-up was made branch-free): kz the dominant axis (ties to the lower one), kx and ky
-/// the next two in cyclic order, swapped when d[kz] < 0, shear constants d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz].
+/// The watertight test's axes and shear as Woop et al. define them, written out independently of PreparedRay (so a
+/// faster form of its set-up must keep every bit): kz the dominant axis (ties to the lower one), kx and ky the next two
+/// in cyclic order, swapped when d[kz] < 0, shear constants d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz].
 struct ReferenceShear {
   int kx, ky, kz;
   float shear_x, shear_y, shear_z;

@@ -4,8 +4,6 @@
 #pragma once
 
 #include <cmath>
-#include <cstddef>
-#include <cstring>
 #include <limits>
 
 #include "rayaccel/core/vec3.h"
@@ -59,38 +57,15 @@ struct PreparedRay {
       inv_direction[a] = 1.0f / d[a];
       negative[a] = std::signbit(d[a]) ? 1 : 0;
     }
-    set_shear_axes(ray);
-  }
-
- private:
-  /// kz = max_axis(|d|), (kx, ky) the other two in cyclic order, swapped when d[kz] < 0 (winding preserved), and the
-  /// shear constants. The dominant axis varies from ray to ray, so nothing here branches on it (branches on it
-  /// mispredicted for incoherent rays, a tenth of the batch loop's time on diffuse rays): the axes come from
-  /// comparisons as integers, and d's components are read from the caller's ray by index.
-  void set_shear_axes(const Ray& ray) {
-    const Vec3 ad = abs(direction);
-    const int not_x = int(!(ad.x >= ad.y)) | int(!(ad.x >= ad.z));  // max_axis, ties to the lower axis
-    kz = not_x * (2 - int(ad.y >= ad.z));
-    const float d_kz = direction_of(ray, kz);
-    const int turn = 1 + int(d_kz < 0.0f);  // kx = kz + 1, or kz + 2 when d[kz] < 0 (mod 3)
-    static constexpr int kMod3[5] = {0, 1, 2, 0, 1};
-    kx = kMod3[kz + turn];
-    ky = kMod3[kz + 3 - turn];
-    const float dz = d_kz != 0.0f ? d_kz : 1.0f;  // only a void ray has d[kz] == 0
-    // The three quotients in one vector division (each lane rounds as the scalar division would).
-    using Float4 = float __attribute__((vector_size(16)));
-    const Float4 quotient = Float4{direction_of(ray, kx), direction_of(ray, ky), 1.0f, 1.0f} / dz;
-    shear_x = quotient[0];
-    shear_y = quotient[1];
-    shear_z = quotient[2];
-  }
-  /// ray.direction[axis], axis in 0..2, as one indexed load from the ray's record (no compare on the axis).
-  static float direction_of(const Ray& ray, int axis) {
-    float value;
-    std::memcpy(&value, reinterpret_cast<const unsigned char*>(&ray) + offsetof(Ray, direction) +
-                            sizeof(float) * static_cast<std::size_t>(axis),
-                sizeof(float));
-    return value;
+    const Vec3 ad = abs(d);
+    kz = max_axis(ad);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (d[kz] < 0.0f) { const int tmp = kx; kx = ky; ky = tmp; }
+    const float dz = d[kz] != 0.0f ? d[kz] : 1.0f;  // only a void ray has d[kz] == 0
+    shear_x = d[kx] / dz;
+    shear_y = d[ky] / dz;
+    shear_z = 1.0f / dz;
   }
 };
 
