@@ -199,7 +199,7 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
         if (intersect_leaf<typename Kernel::Lanes, true>(ref, triangle_packet, ray, hit, stats)) return;
       } else {
         const Node<W>& node = nodes[ref];
-        alignas(32) float entry[W];  // not needed here
+        alignas(32) float entry[W];  // entry distances, which the box test writes and any-hit does not use
         int mask = Kernel::intersect(box_packet, node, t_far, entry);
         if (mask) {
           ref = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
