@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libtbb-dev libassimp-dev libstb-dev libcli11-dev nlohmann-json3-dev libfmt-dev
-  libgtest-dev libbenchmark-dev libembree-dev
+  libgtest-dev libbenchmark-dev libembree-dev libgmp-dev
   python3 python3-numpy
 )
 missing=()

@@ -4,15 +4,17 @@
 Follows Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection" (JCGT 2(1), 2013): the ray's dominant axis
 becomes z, the triangle is sheared so the ray runs along +z through the origin, and the three 2D edge functions
 decide the hit. Every step is float32 arithmetic in numpy with the operation order of the C++ kernel (no fused
-multiply-add), an edge function that comes out exactly zero (in a triangle whose other edge functions do not already
-have opposite signs) is recomputed in float64 from the vertices (origin offsets, shear and products) and rounded back
-(a nonzero value keeping its sign), the hit rule is t_min < t <= t_max with t clearing t_min by
-more than its rounding-error bound (pbrt-v3 section 3.9.6), and of equal t the lowest triangle index wins. The
-output is meant to be byte-identical to `rayaccel trace --accel brute_force`.
+multiply-add), with the C++ kernel's bound on the edge functions' rounding error: edge functions of opposite signs
+beyond it are a miss; when one lies within it, or the bound is large against the determinant, all three are
+recomputed from the float inputs in float64 with a static error bound, or exactly with Python's Fraction when that
+bound cannot decide the sign, and rounded to float32 (a nonzero value keeping its sign). The hit rule is
+t_min < t <= t_max with t clearing t_min by more than the kernel's bound on the error of t, and of equal t the lowest
+triangle index wins. The output is meant to be byte-identical to `rayaccel trace --accel brute_force`.
 
 Usage: reference_trace.py MESH.ply RAYS.rays OUT.hits
 """
 import sys
+from fractions import Fraction
 
 import numpy as np
 
@@ -113,6 +115,49 @@ def gamma(n):
     return nu / (F32(1) - nu)
 
 
+SLACK = F32(1.0 + 2.0 ** -16)
+EDGE_FLOOR = F32(2.0 ** -100)
+ILL_CONDITIONED = F32(192)
+EXACT_RELATIVE = F32(2.0 ** -22)
+EXACT_FLOOR = F32(2.0 ** -148)
+
+
+def round_up_to_float(x):
+    """The smallest float32 >= the float64 x."""
+    f = F32(x)
+    return np.nextafter(f, F32(np.inf)) if float(f) < x else f
+
+
+def edge_in_double(origin, direction, axes, p, q):
+    """G = E d_z for the edge of vertices p, q, in float64 with the C++ kernel's operations and static error bound."""
+    pa = [float(p[a]) - float(origin[a]) for a in axes]
+    qa = [float(q[a]) - float(origin[a]) for a in axes]
+    d = [float(direction[a]) for a in axes]
+    g = permanent = 0.0
+    for c, i, j in ((2, 0, 1), (0, 1, 2), (1, 2, 0)):
+        left, right = pa[i] * qa[j], pa[j] * qa[i]
+        g += d[c] * (left - right)
+        permanent += abs(d[c]) * (abs(left) + abs(right))
+    return g, (10.0 * 2.0 ** -53) * permanent
+
+
+def edge_exactly(origin, direction, axes, p, q):
+    """The edge function E = X_p Y_q - Y_p X_q of the float ray and vertices, as (value, error bound): in float64
+    when its error bound decides the sign, else exactly (the value rounded)."""
+    dz = float(direction[axes[2]])
+    g, error = edge_in_double(origin, direction, axes, p, q)
+    if abs(g) > error:
+        return g / dz, error / abs(dz)
+    fr = [Fraction(float(v)) for v in origin], [Fraction(float(v)) for v in direction]
+    pa = [Fraction(float(p[a])) - fr[0][a] for a in axes]
+    qa = [Fraction(float(q[a])) - fr[0][a] for a in axes]
+    d = [fr[1][a] for a in axes]
+    exact = (d[2] * (pa[0] * qa[1] - pa[1] * qa[0]) + d[0] * (pa[1] * qa[2] - pa[2] * qa[1])
+             + d[1] * (pa[2] * qa[0] - pa[0] * qa[2]))
+    value = 0.0 if exact == 0 else float(exact) / dz
+    return value, abs(value) * 2.0 ** -50
+
+
 def trace_ray(mesh, ray):
     """(t, prim, u, v) of the closest hit with t_min < t <= t_max, or the miss record."""
     origin, t_min, direction, t_max = ray[0:3], ray[3], ray[4:7], ray[7]
@@ -135,57 +180,65 @@ def trace_ray(mesh, ray):
     rel = [[mesh.v[c][axis] - origin[axis] for axis in range(3)] for c in range(3)]
     px = [rel[c][kx] - sx * rel[c][kz] for c in range(3)]
     py = [rel[c][ky] - sy * rel[c][kz] for c in range(3)]
+    pz = [rel[c][kz] for c in range(3)]
     (ax, bx, cx), (ay, by, cy) = px, py
     # The C++ kernel rescales triangles whose sheared coordinates leave [2^-40, 2^40]; this reference does not model
     # that path, so it refuses rays that would need it rather than answer differently.
-    magnitude = np.max(np.abs(np.stack(px + py + [rel[c][kz] for c in range(3)])), axis=0)
+    magnitude = np.max(np.abs(np.stack(px + py + pz)), axis=0)
     if np.any((magnitude > 2.0 ** 40) | (magnitude < 2.0 ** -40)):
         raise SystemExit("a triangle is outside the float kernel's safe range for this ray; not modelled here")
     eu = cx * by - cy * bx
     ev = ax * cy - ay * cx
     ew = bx * ay - by * ax
-    # Nonzero edge functions of opposite signs are a miss whatever the others; otherwise each edge that is exactly
-    # zero is decided again in float64 (only that edge).
-    mixed = ((eu < 0) | (ev < 0) | (ew < 0)) & ((eu > 0) | (ev > 0) | (ew > 0))
-    redo = ((eu == 0) | (ev == 0) | (ew == 0)) & ~mixed
-    if np.any(redo):
-        # In float64 from the vertices: origin offsets and shear without float rounding or underflow.
-        o64 = origin.astype(np.float64)
-
-        def sheared64(c):
-            z = mesh.v[c][kz][redo].astype(np.float64) - o64[kz]
-            x = (mesh.v[c][kx][redo].astype(np.float64) - o64[kx]) - np.float64(sx) * z
-            y = (mesh.v[c][ky][redo].astype(np.float64) - o64[ky]) - np.float64(sy) * z
-            return x, y
-
-        (dax, day), (dbx, dby), (dcx, dcy) = sheared64(0), sheared64(1), sheared64(2)
-        for e, exact in ((eu, dcx * dby - dcy * dbx), (ev, dax * dcy - day * dcx), (ew, dbx * day - dby * dax)):
-            zero = e[redo] == 0
-            e[np.nonzero(redo)[0][zero]] = to_float_keeping_sign(exact[zero])
+    # The bound on the edge functions' error (TriangleErrorBounds in ray_triangle.h, operation for operation).
+    max_x = np.maximum(np.abs(ax), np.maximum(np.abs(bx), np.abs(cx)))
+    max_y = np.maximum(np.abs(ay), np.maximum(np.abs(by), np.abs(cy)))
+    max_z = np.maximum(np.abs(pz[0]), np.maximum(np.abs(pz[1]), np.abs(pz[2])))
+    lo_z = np.minimum(pz[0], np.minimum(pz[1], pz[2]))
+    hi_z = np.maximum(pz[0], np.maximum(pz[1], pz[2]))
+    dx = gamma(3) * max_x + gamma(5) * (np.abs(sx) * max_z)
+    dy = gamma(3) * max_y + gamma(5) * (np.abs(sy) * max_z)
+    edge_error = ((F32(2) * gamma(2)) * max_x * max_y + F32(2) * ((dx * max_y + dy * max_x) + dx * dy)) * SLACK
+    edge_error = edge_error + EDGE_FLOOR
+    lo_e = np.minimum(eu, np.minimum(ev, ew))
+    hi_e = np.maximum(eu, np.maximum(ev, ew))
+    surely_mixed = (lo_e < -edge_error) & (hi_e > edge_error)
+    det = (eu + ev) + ew
+    in_band = (np.abs(eu) <= edge_error) | (np.abs(ev) <= edge_error) | (np.abs(ew) <= edge_error)
+    ill = edge_error * ILL_CONDITIONED >= np.abs(det)
+    redo = np.nonzero((in_band | ill) & ~surely_mixed)[0]
+    axes = (kx, ky, kz)
+    for i in redo:
+        # All three edge functions from the float inputs, exactly signed (edge_exactly), rounded to float32.
+        verts = [np.array([mesh.v[c][a][i] for a in range(3)]) for c in range(3)]
+        error = 0.0
+        values = []
+        for p, q in ((verts[2], verts[1]), (verts[0], verts[2]), (verts[1], verts[0])):
+            value, err = edge_exactly(origin, direction, axes, p, q)
+            error = max(error, err)
+            values.append(value)
+        e = to_float_keeping_sign(np.array(values, dtype=np.float64))
+        eu[i], ev[i], ew[i] = e
+        max_e = np.maximum(np.abs(e[0]), np.maximum(np.abs(e[1]), np.abs(e[2])))
+        edge_error[i] = (round_up_to_float(error) + max_e * EXACT_RELATIVE) * SLACK + EXACT_FLOOR
+        det[i] = (e[0] + e[1]) + e[2]
     negative = (eu < 0) | (ev < 0) | (ew < 0)
     positive = (eu > 0) | (ev > 0) | (ew > 0)
-    det = (eu + ev) + ew
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        az = sz * rel[0][kz]
-        bz = sz * rel[1][kz]
-        cz = sz * rel[2][kz]
+        az = sz * pz[0]
+        bz = sz * pz[1]
+        cz = sz * pz[2]
         scaled_t = (eu * az + ev * bz) + ew * cz
         inv_det = F32(1) / det
         t = scaled_t * inv_det
-        # pbrt-v3 section 3.9.6: the bound on t's rounding error; a hit must clear t_min by more than it. Same float32
-        # operations in the same order as t_error_bound() in ray_triangle.h.
-        max_zt = np.abs(sz) * np.maximum(np.abs(rel[0][kz]), np.maximum(np.abs(rel[1][kz]), np.abs(rel[2][kz])))
-        max_xt = np.maximum(np.abs(ax), np.maximum(np.abs(bx), np.abs(cx)))
-        max_yt = np.maximum(np.abs(ay), np.maximum(np.abs(by), np.abs(cy)))
-        delta_z = gamma(3) * max_zt
-        delta_x = gamma(5) * (max_xt + max_zt)
-        delta_y = gamma(5) * (max_yt + max_zt)
-        delta_e = F32(2) * ((gamma(2) * max_xt * max_yt + delta_y * max_xt) + delta_x * max_yt)
-        max_e = np.maximum(np.abs(eu), np.maximum(np.abs(ev), np.abs(ew)))
-        bound = F32(3) * ((gamma(3) * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * np.abs(inv_det)
+        # The bound on t's error: t_error_bound() in ray_triangle.h, operation for operation.
+        abs_sz = np.abs(sz)
+        max_zt = abs_sz * max_z
+        range_zt = abs_sz * (hi_z - lo_z)
+        bound = (((F32(3) * edge_error) * np.abs(inv_det)) * range_zt + gamma(12) * max_zt) * SLACK
         clears_t_min = t > F32(t_min) + bound
     upper = np.nextafter(F32(t_max), F32(np.inf))  # exclusive bound, as Hit::begin sets it
-    accept = ~(negative & positive) & (det != 0) & (t > t_min) & (t < upper) & clears_t_min
+    accept = ~surely_mixed & ~(negative & positive) & (det != 0) & (t > t_min) & (t < upper) & clears_t_min
     if not np.any(accept):
         return miss
     candidates = np.nonzero(accept)[0]

@@ -80,14 +80,59 @@ struct GridFrame {
   }
 };
 
+/// Where a subdivision's traversal starts along a ray that enters its box at t_enter (t_min, or an entry clipped to
+/// the box): a distance t_base no later than the ray's true entry and the ray's point there, computed in double and
+/// rounded once. Traversal geometry measured from that point (plane distances, cell indices) keeps the precision of
+/// the structure's own coordinates instead of that of a far origin: from an origin 1e6 box sizes away, float
+/// distances measured from the origin are off by more than a cell. A clipped entry is recomputed in double and moved
+/// back by 2^-40 of itself (its rounding is below 2^-50). When even that margin exceeds the box (origins more than
+/// about 1e12 box sizes away), the traversal keeps the ray's own origin (t_base 0, `shifted` false).
+struct TraversalStart {
+  double t_base = 0.0;
+  Vec3 origin;
+  bool shifted = false;
+  /// False when the origin is too far for any start to be measured precisely: the caller then tests every primitive
+  /// it holds instead of walking its cells (a float ray from 1e12 box sizes away cannot resolve the cells anyway).
+  bool precise = true;
+
+  TraversalStart(const PreparedRay& r, const AABB& box, float t_enter) : origin(r.origin) {
+    double t = t_enter;
+    double back = 0.0;  // how far the start lies before the entry, in t
+    if (t_enter > r.t_min) {
+      t = r.t_min;
+      for (int a = 0; a < 3; ++a) {
+        if (r.direction[a] == 0.0f || !std::isfinite(r.inv_direction[a])) continue;
+        const double near_plane = r.negative[a] ? box.hi[a] : box.lo[a];
+        t = std::max(t, (near_plane - double(r.origin[a])) / double(r.direction[a]));
+      }
+      back = std::fabs(t) * 0x1p-40;
+      t -= back;
+    }
+    if (t == 0.0) return;
+    // The start's distance from the box (back) and its rounding in double must stay well within the box.
+    const double d_max = max_component(abs(r.direction));
+    const double error = 0x1p-52 * (double(max_component(abs(r.origin))) + d_max * std::fabs(t));
+    if (!((back * d_max + error) <= double(max_component(box.extent())))) {
+      precise = false;
+      return;
+    }
+    t_base = t;
+    shifted = true;
+    for (int a = 0; a < 3; ++a) origin[a] = static_cast<float>(double(r.origin[a]) + double(r.direction[a]) * t);
+  }
+  /// A distance measured from the start, as a distance along the ray.
+  float absolute(float local_t) const { return shifted ? static_cast<float>(t_base + double(local_t)) : local_t; }
+};
+
 /// Incremental 3D-DDA over a GridFrame. Distances to the next planes are recomputed from plane() at each step (not
-/// accumulated), so they carry only a few roundings however long the walk. Zero direction components (+0 and -0,
-/// and subnormals whose reciprocal overflows) never step on their axis.
+/// accumulated) and measured from the traversal start (TraversalStart), so they carry only a few roundings of the
+/// grid's own scale however long the walk and however far the origin. Zero direction components (+0 and -0, and
+/// subnormals whose reciprocal overflows) never step on their axis.
 class GridDda {
  public:
-  /// Starts in the cell holding the ray's point at t_enter (clamped into the grid).
-  GridDda(const PreparedRay& r, const GridFrame& g, float t_enter) {
-    const Vec3 p = r.origin + r.direction * t_enter;
+  /// Starts in the cell holding the traversal start for t_enter (clamped into the grid).
+  GridDda(const PreparedRay& r, const GridFrame& g, float t_enter) : start_(r, g.box, t_enter) {
+    const Vec3 p = start_.shifted ? start_.origin : r.origin + r.direction * t_enter;
     for (int a = 0; a < 3; ++a) {
       cell_[a] = g.cell_of(p[a], a);
       const bool moves = r.direction[a] != 0.0f && std::isfinite(r.inv_direction[a]);
@@ -97,9 +142,11 @@ class GridDda {
     }
   }
 
+  /// See TraversalStart::precise: when false, the caller must not rely on the walk.
+  bool precise() const { return start_.precise; }
   int cell(int axis) const { return cell_[axis]; }
   /// Distance at which the ray leaves the current cell.
-  float exit_t() const { return std::min({t_next_[0], t_next_[1], t_next_[2]}); }
+  float exit_t() const { return start_.absolute(std::min({t_next_[0], t_next_[1], t_next_[2]})); }
   /// Moves to the next cell along the ray; false when the ray leaves the grid.
   bool advance(const PreparedRay& r, const GridFrame& g) {
     const int a = t_next_[0] <= t_next_[1] ? (t_next_[0] <= t_next_[2] ? 0 : 2) : (t_next_[1] <= t_next_[2] ? 1 : 2);
@@ -111,15 +158,28 @@ class GridDda {
   }
 
  private:
+  /// Distance from the traversal start to the cell's next plane on axis a.
   float next_plane_t(const PreparedRay& r, const GridFrame& g, int a) const {
-    return (g.plane(a, cell_[a] + (step_[a] > 0 ? 1 : 0)) - r.origin[a]) * r.inv_direction[a];
+    return (g.plane(a, cell_[a] + (step_[a] > 0 ? 1 : 0)) - start_.origin[a]) * r.inv_direction[a];
   }
 
+  TraversalStart start_;
   int cell_[3];
   int step_[3];
   int end_[3];
-  float t_next_[3];
+  float t_next_[3];  ///< measured from the traversal start
 };
+
+/// Tests every valid primitive of the scene: the traversal of a grid over all of them when TraversalStart is not
+/// precise.
+template <bool AnyHit, class Stats>
+inline void test_every_primitive(const Scene& scene, const PreparedRay& ray, Hit& hit, Stats& stats) {
+  for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
+    if (!scene.is_valid(id)) continue;
+    stats.test_primitive();
+    if (scene.intersect(id, ray, hit) && AnyHit) return;
+  }
+}
 
 /// Tests the primitives [begin, end) of one cell, skipping mailboxed ones when `use_mailbox`. Returns true when an
 /// any-hit query may stop.

@@ -81,6 +81,20 @@ class Octree final : public AcceleratorImpl<Octree> {
     if (active_count_ == 0) return;
     float t0 = ray.t_min, t1 = ray.t_max;
     if (!clip_ray_to_box(ray, root_box_, t0, t1)) return;
+    // The cells are ordered along the ray measured from the traversal start (see TraversalStart): t0, t1 and the
+    // mid-plane crossings below are distances from start.origin, and hit.t is compared with them as distances along
+    // the ray.
+    const TraversalStart start(ray, root_box_, t0);
+    if (!start.precise) {
+      test_every_leaf<AnyHit>(ray, hit, stats);
+      return;
+    }
+    if (start.shifted) {  // widened again for the rounding of the subtraction
+      t0 = static_cast<float>(double(t0) - start.t_base);
+      t1 = static_cast<float>(double(t1) - start.t_base);
+      t0 *= t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp;
+      t1 *= t1 >= 0.0f ? kSlabWidenUp : kSlabWidenDown;
+    }
     struct Entry {
       AABB box;
       std::uint32_t node;
@@ -100,7 +114,7 @@ class Octree final : public AcceleratorImpl<Octree> {
                                          ray, hit, stats)) {
           return;
         }
-        if (hit.t <= e.t1) return;
+        if (hit.t <= start.absolute(e.t1)) return;
         continue;
       }
       const Vec3 c = e.box.center();
@@ -109,10 +123,10 @@ class Octree final : public AcceleratorImpl<Octree> {
       int cross_axis[3];
       for (int a = 0; a < 3; ++a) {
         if (ray.direction[a] == 0.0f || !std::isfinite(ray.inv_direction[a])) {
-          child |= ray.origin[a] >= c[a] ? 1 << a : 0;
+          child |= start.origin[a] >= c[a] ? 1 << a : 0;
           continue;
         }
-        const float tm = (c[a] - ray.origin[a]) * ray.inv_direction[a];
+        const float tm = (c[a] - start.origin[a]) * ray.inv_direction[a];
         const bool past = tm <= e.t0;  // the mid plane lies behind the entry point
         child |= (ray.direction[a] > 0.0f) == past ? 1 << a : 0;
         if (!past && tm < e.t1) {
@@ -141,6 +155,27 @@ class Octree final : public AcceleratorImpl<Octree> {
   }
 
  private:
+  /// Tests the lists of every leaf, in any order (the traversal when TraversalStart is not precise).
+  template <bool AnyHit, class Stats>
+  void test_every_leaf(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    std::uint32_t stack[8 * kMaxDepth + 8];
+    int top = 0;
+    stack[top++] = 0;
+    RayMailbox<true> mailbox;
+    while (top > 0) {
+      const OctreeNode& n = nodes_[stack[--top]];
+      stats.visit_node();
+      if (n.first_child != kLeaf) {
+        for (std::uint32_t c = 0; c < 8; ++c) stack[top++] = n.first_child + c;
+        continue;
+      }
+      const std::vector<std::uint32_t>& list = lists_[n.list];
+      if (test_cell_primitives<AnyHit>(*scene_, list.data(), list.data() + list.size(), options_.mailbox, mailbox,
+                                       ray, hit, stats)) {
+        return;
+      }
+    }
+  }
   /// A cell may split above max_depth only while its children stay above min_cell_size (see grid_dda.h).
   bool may_split(const AABB& box, int depth) const {
     return depth < options_.max_depth && max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);

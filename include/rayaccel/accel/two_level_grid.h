@@ -49,6 +49,10 @@ class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
     float t0 = ray.t_min, t1 = ray.t_max;
     if (!clip_ray_to_box(ray, top_.box, t0, t1)) return;
     GridDda top(ray, top_, t0);
+    if (!top.precise()) {
+      test_every_primitive<AnyHit>(*scene_, ray, hit, stats);
+      return;
+    }
     RayMailbox<true> mailbox;
     for (;;) {
       stats.visit_node();
@@ -71,6 +75,15 @@ class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
     const GridFrame f = frame_of(g);
     GridDda dda(ray, f, s0);
     const std::uint32_t* ids = ids_.data();
+    if (!dda.precise()) {  // every leaf cell of this subgrid, in any order
+      const std::uint32_t cells = std::uint32_t(g.res[0]) * g.res[1] * g.res[2];
+      for (std::uint32_t c = g.first_cell; c < g.first_cell + cells; ++c) {
+        const std::uint32_t* begin = ids + leaf_offsets_[c];
+        const std::uint32_t* end = ids + leaf_offsets_[c + 1];
+        if (test_cell_primitives<AnyHit>(*scene_, begin, end, options_.mailbox, mailbox, ray, hit, stats)) return true;
+      }
+      return false;
+    }
     for (;;) {
       stats.visit_node();
       const std::uint32_t c = g.first_cell + f.linear(dda.cell(0), dda.cell(1), dda.cell(2));

@@ -126,6 +126,10 @@ void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) co
   float t0 = ray.t_min, t1 = ray.t_max;
   if (!clip_ray_to_box(ray, frame_.box, t0, t1)) return;
   GridDda dda(ray, frame_, t0);
+  if (!dda.precise()) {
+    test_every_primitive<AnyHit>(*scene_, ray, hit, stats);
+    return;
+  }
   RayMailbox<true> mailbox;
   wide::BlockMailbox block_mailbox;
   const wide::TrianglePacket<Lanes> packet(ray);

@@ -1,27 +1,26 @@
-// Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)).
-// Edge functions are computed in a ray-sheared space; a shared edge yields exactly negated values in its two
-// triangles, so a ray through an edge or vertex of a closed mesh hits at least one triangle. No back-face culling.
-// An edge function that is exactly zero in float is decided again in double from the vertices (Woop et al. fall
-// back to double too; computing the shear in double as well keeps underflow near 0 from making false hits). Only that
-// edge is recomputed: a nonzero float edge function has the exact sign of its products' difference (rounding is
-// monotone, so the two products cannot swap order), so each edge's sign is a function of the edge and the ray alone,
-// the same in both triangles that share it, and nonzero float edges of opposite signs are a miss whatever the others.
-// Why no ray slips between triangles: nonzero float signs are exact for one set of sheared vertex positions, shared by
-// every triangle; a ray exactly on one edge line (zero) lies between the two triangles beside that edge, and either
-// decision puts it in one of them; a ray on two edge lines is at their common vertex, where every edge through it is
-// zero and all are decided in the one double frame. (Recomputing all three edges when one is zero, as before, could
-// decide an edge in double in one triangle and in float in its neighbour.)
-// Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and
-// tiny scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
-// A hit counts only when its computed t exceeds t_min by more than the rounding error bound of t (Pharr, Jakob,
-// Humphreys, "Physically Based Rendering", 3rd ed., section 3.9.6): t near t_min cannot be told from rounding, and
-// without the bound a ray leaving a surface could "hit" the plane it left at a small positive t that box culling
-// (exactly conservative) rules out, so structures would disagree with brute force on secondary rays.
+// Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)),
+// with every hit/miss decision exact for the float inputs. Edge functions are computed in float in the ray's sheared
+// frame, together with a bound on their rounding error (the error analysis of Pharr, Jakob, Humphreys, "Physically
+// Based Rendering", 3rd ed., section 3.9.6, with the shear's rounding counted in world units so that the bound holds
+// for any direction length). A float edge function beyond its bound has the sign of the exact one; edge functions
+// of opposite signs beyond their bounds are a miss. When any edge function lies inside its bound, or the bound is
+// large against the determinant (rays far from small triangles), all three are computed exactly (exact_edge.h,
+// expansion arithmetic after Shewchuk 1997) and rounded once. So each edge's sign is that of the exact edge
+// function of the float ray and vertices: a ray through an edge or vertex of a closed mesh hits at least one
+// triangle (edges count as inside), and the same edge is decided the same way in both triangles that share it.
+// Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and tiny
+// scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
+// A hit counts only when its computed t exceeds t_min by more than a bound on the error of t. The bound uses that t is
+// a weighted mean of the vertices' distances with weights of known sign: the error of the weights moves t by at most
+// 3 (edge error / |det|) times the triangle's depth range along the ray, plus a few ulps of the vertices' distances,
+// so it stays a few ulps of t for a small triangle far from the origin (pbrt's bound grows with the square of the
+// distance over the triangle's size, and threw such hits away). Near t_min the bound keeps a ray leaving a surface
+// from "hitting" the plane it left at a small positive t that box culling (exactly conservative) rules out.
 #pragma once
 
-#include <array>
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <initializer_list>
 #include <limits>
 
@@ -29,6 +28,7 @@
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/core/vec3.h"
+#include "rayaccel/geometry/exact_edge.h"
 
 namespace rayaccel {
 
@@ -43,6 +43,8 @@ inline constexpr float kShearSafeMin = 0x1p-40f;
 /// std::fmax(m, v) written out: without -ffinite-math-only GCC calls libm's fmaxf for it (measured: a quarter of
 /// the time of scalar triangle tests), this compiles to compares. A NaN operand yields the other one.
 inline float fmax_inline(float m, float v) { return (v > m || m != m) ? v : m; }
+/// std::fmin(m, v) written out, as fmax_inline.
+inline float fmin_inline(float m, float v) { return (v < m || m != m) ? v : m; }
 
 /// Largest magnitude of the nine coordinates (NaN coordinates are ignored unless all are NaN).
 inline float max_magnitude(const ShearedTriangle& s) {
@@ -58,57 +60,66 @@ inline bool in_safe_range(const ShearedTriangle& s) {
   return m <= kShearSafeMax && m >= kShearSafeMin;
 }
 
-/// Bound on the rounding error of the t the watertight test computes from sheared triangle `s` with edge functions
-/// eu, ev, ew and 1 / det = inv_det (pbrt-v3 section 3.9.6, whose error terms count at least the operations made
-/// here). In the units of `s`: multiply by the same t_unscale as t.
-inline float t_error_bound(const PreparedRay& r, const ShearedTriangle& s, float eu, float ev, float ew,
-                           float inv_det) {
-  const float max_z = fmax_inline(std::fabs(s.az), fmax_inline(std::fabs(s.bz), std::fabs(s.cz)));
-  const float max_zt = std::fabs(r.shear_z) * max_z;
-  const float max_xt = fmax_inline(std::fabs(s.ax), fmax_inline(std::fabs(s.bx), std::fabs(s.cx)));
-  const float max_yt = fmax_inline(std::fabs(s.ay), fmax_inline(std::fabs(s.by), std::fabs(s.cy)));
-  const float delta_z = float_gamma(3) * max_zt;
-  const float delta_x = float_gamma(5) * (max_xt + max_zt);
-  const float delta_y = float_gamma(5) * (max_yt + max_zt);
-  const float delta_e = 2.0f * (float_gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-  const float max_e = fmax_inline(std::fabs(eu), fmax_inline(std::fabs(ev), std::fabs(ew)));
-  return 3.0f * (float_gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::fabs(inv_det);
+/// Constants of the error bounds (float_gamma(n): the relative bound of n roundings).
+struct WatertightBounds {
+  /// Multiplies a bound computed in float to cover the rounding of its own few operations.
+  static constexpr float kSlack = 1.0f + 0x1p-16f;
+  /// Added to the edge error bound in the safe range: covers the absolute error of products that underflow (below
+  /// 2^-149 * 2^42 there) with room to spare.
+  static constexpr float kEdgeFloor = 0x1p-100f;
+  /// A triangle whose edge error bound exceeds |det| / kIllConditioned (3 * 64: its t would be off by more than 1/64
+  /// of its depth range) is decided and measured with exact edge functions.
+  static constexpr float kIllConditioned = 192.0f;
+  /// Relative error of rounding an edge function known to double precision to float, and its absolute floor.
+  static constexpr float kExactRelative = 0x1p-22f;
+  static constexpr float kExactFloor = 0x1p-148f;
+};
+
+/// The largest magnitudes of a sheared triangle's coordinates (x, y after the shear, z before it), its depth range
+/// (lo_z, hi_z: signed) and the bound on the error of its float edge functions against the exact ones.
+struct TriangleErrorBounds {
+  float max_x, max_y, max_z, lo_z, hi_z;
+  float edge_error;
+
+  /// `underflow` bounds the absolute error of one sheared coordinate from products that underflowed (0 in the safe
+  /// range, where kEdgeFloor covers it; 2^-149 times the scale after rescaling).
+  TriangleErrorBounds(const PreparedRay& r, const ShearedTriangle& s, float underflow) {
+    max_x = fmax_inline(std::fabs(s.ax), fmax_inline(std::fabs(s.bx), std::fabs(s.cx)));
+    max_y = fmax_inline(std::fabs(s.ay), fmax_inline(std::fabs(s.by), std::fabs(s.cy)));
+    max_z = fmax_inline(std::fabs(s.az), fmax_inline(std::fabs(s.bz), std::fabs(s.cz)));
+    lo_z = fmin_inline(s.az, fmin_inline(s.bz, s.cz));
+    hi_z = fmax_inline(s.az, fmax_inline(s.bz, s.cz));
+    // A sheared coordinate x = a_x - s_x a_z against the exact X of the float ray (the shear s_x = d_x / d_z rounded,
+    // |s_x| <= 1): |x - X| <= gamma(3) max|x| + gamma(5) |s_x| max|z|. Then for an edge function,
+    // |e - E| <= 2 gamma(2) max|x| max|y| + 2 (dx max|y| + dy max|x| + dx dy).
+    const float dx = (float_gamma(3) * max_x + float_gamma(5) * (std::fabs(r.shear_x) * max_z)) + underflow;
+    const float dy = (float_gamma(3) * max_y + float_gamma(5) * (std::fabs(r.shear_y) * max_z)) + underflow;
+    edge_error = (2.0f * float_gamma(2) * max_x * max_y + 2.0f * ((dx * max_y + dy * max_x) + dx * dy)) *
+                     WatertightBounds::kSlack +
+                 WatertightBounds::kEdgeFloor;
+  }
+};
+
+/// Bound on the error of the t computed from edge functions with error at most `edge_error` and 1 / det = inv_det:
+/// 3 edge_error |inv_det| times the depth range, plus gamma(12) of the largest vertex distance (in the units of `s`:
+/// multiply by the same t_unscale as t).
+inline float t_error_bound(const PreparedRay& r, const TriangleErrorBounds& b, float edge_error, float inv_det) {
+  const float abs_shear_z = std::fabs(r.shear_z);
+  const float max_zt = abs_shear_z * b.max_z;
+  const float range_zt = abs_shear_z * (b.hi_z - b.lo_z);
+  return (((3.0f * edge_error) * std::fabs(inv_det)) * range_zt + float_gamma(12) * max_zt) * WatertightBounds::kSlack;
 }
 
-/// True when a hit at computed distance t (in the units of `s`, before t_unscale) lies beyond t_min by more than its
-/// error bound, so that exactly t > t_min.
-inline bool clears_t_min(const PreparedRay& r, const ShearedTriangle& s, float eu, float ev, float ew, float inv_det,
-                         float t, float t_unscale) {
-  return t > r.t_min + t_error_bound(r, s, eu, ev, ew, inv_det) * t_unscale;
-}
-
-/// An edge function computed exactly in double, as a float of the same sign: a nonzero value too small for float
-/// becomes the smallest subnormal of its sign instead of a zero (which would put the ray on the edge).
+/// An edge function's exact value rounded to float, keeping its sign: a nonzero value too small for float becomes
+/// the smallest subnormal of its sign instead of a zero (which would put the ray on the edge).
 inline float edge_to_float(double e) {
   const auto f = static_cast<float>(e);
   if (f != 0.0f || e == 0.0) return f;
   return e > 0.0 ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
 }
 
-/// The edge functions (u, v, w: opposite vertex 0, 1, 2) of triangle (v0, v1, v2) for ray r, with the origin offsets
-/// and the shear computed in double from the float inputs: the float kernel's ray (its shear constants), without the
-/// rounding and underflow of the float coordinates. Each vertex's coordinates are computed the same way in every
-/// triangle that shares it, so a shared edge still gives exactly negated values (watertight).
-inline std::array<double, 3> edge_functions_in_double(const PreparedRay& r, const Vec3& v0, const Vec3& v1,
-                                                      const Vec3& v2) {
-  double x[3], y[3];
-  const Vec3* vertices[3] = {&v0, &v1, &v2};
-  for (int i = 0; i < 3; ++i) {
-    const Vec3& v = *vertices[i];
-    const double z = double(v[r.kz]) - double(r.origin[r.kz]);
-    x[i] = (double(v[r.kx]) - double(r.origin[r.kx])) - double(r.shear_x) * z;
-    y[i] = (double(v[r.ky]) - double(r.origin[r.ky])) - double(r.shear_y) * z;
-  }
-  return {x[2] * y[1] - y[2] * x[1], x[0] * y[2] - y[0] * x[2], x[1] * y[0] - y[1] * x[0]};
-}
-
 /// The triangle in world space, for edges that float cannot decide, and the factor (a power of two squared) that
-/// brings its double edge functions to the scale of the sheared float triangle.
+/// brings its exact edge functions to the scale of the sheared float triangle.
 struct TriangleForEdges {
   const Vec3& v0;
   const Vec3& v1;
@@ -116,44 +127,68 @@ struct TriangleForEdges {
   double edge_scale = 1.0;
 };
 
-/// The three edge functions of a sheared triangle in float (u, v, w: opposite vertex a, b, c).
+/// The three edge functions of a sheared triangle (u, v, w: opposite vertex a, b, c).
 struct EdgeFunctions {
   float u, v, w;
+  /// In float.
   explicit EdgeFunctions(const ShearedTriangle& s)
       : u(s.cx * s.by - s.cy * s.bx), v(s.ax * s.cy - s.ay * s.cx), w(s.bx * s.ay - s.by * s.ax) {}
   /// Some edge function below zero and another above it (NaN counts as neither): the ray misses.
   bool mixed_signs() const { return (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f); }
+  /// Some edge function below -error and another above +error: the exact ones have opposite signs too.
+  bool surely_mixed(float error) const {
+    const float lo = fmin_inline(u, fmin_inline(v, w)), hi = fmax_inline(u, fmax_inline(v, w));
+    return lo < -error && hi > error;
+  }
+  /// Some edge function within `error` of zero: float cannot give its sign.
+  bool in_band(float error) const {
+    return std::fabs(u) <= error || std::fabs(v) <= error || std::fabs(w) <= error;
+  }
+  float max_magnitude() const { return fmax_inline(std::fabs(u), fmax_inline(std::fabs(v), std::fabs(w))); }
 };
 
-/// Sign test and distance of a sheared triangle whose float edge functions `e` (of `s`) are not of opposite signs;
-/// `t_unscale` undoes a power-of-two scaling of it.
-inline bool intersect_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, EdgeFunctions e, float t_unscale,
-                                       const TriangleForEdges& world, std::uint32_t prim_id, Hit& hit) {
-  if (e.u == 0.0f || e.v == 0.0f || e.w == 0.0f) {
-    // On an edge in single precision: decide that edge (only that one) in double, from the vertices (the float
-    // sheared coordinates may have rounded or underflowed: a ray 1e-45 from an edge near 0), without letting the
-    // conversion back to float round a nonzero value to zero.
-    const std::array<double, 3> exact = edge_functions_in_double(r, world.v0, world.v1, world.v2);
-    if (e.u == 0.0f) e.u = edge_to_float(exact[0] * world.edge_scale);
-    if (e.v == 0.0f) e.v = edge_to_float(exact[1] * world.edge_scale);
-    if (e.w == 0.0f) e.w = edge_to_float(exact[2] * world.edge_scale);
+/// Replaces `e` with the edge functions of the exact signs (exact_edge.h) rounded to float, and returns the bound
+/// on their error (the ray must not be void).
+inline float exact_edge_functions(const PreparedRay& r, const TriangleForEdges& t, EdgeFunctions& e) {
+  double error = 0.0;
+  const auto edge = [&](const Vec3& p, const Vec3& q) {
+    const ExactEdge x = exact_edge_function(r.origin, r.direction, r.kx, r.ky, r.kz, p, q);
+    error = std::max(error, x.error * t.edge_scale);
+    return edge_to_float(x.sign == 0 ? 0.0 : x.value * t.edge_scale);
+  };
+  e.u = edge(t.v2, t.v1);
+  e.v = edge(t.v0, t.v2);
+  e.w = edge(t.v1, t.v0);
+  return (round_up_to_float(error) + e.max_magnitude() * WatertightBounds::kExactRelative) * WatertightBounds::kSlack +
+         WatertightBounds::kExactFloor;
+}
+
+/// Decides and measures a sheared triangle (in the units of `s`; `t_unscale` undoes a power-of-two scaling) whose
+/// float edge functions `e`, with bounds `b`, are not surely of opposite signs.
+inline bool finish_sheared_triangle(const PreparedRay& r, const ShearedTriangle& s, EdgeFunctions e,
+                                    const TriangleErrorBounds& b, float t_unscale, const TriangleForEdges& world,
+                                    std::uint32_t prim_id, Hit& hit) {
+  float det = (e.u + e.v) + e.w;
+  float edge_error = b.edge_error;
+  if (e.in_band(edge_error) || edge_error * WatertightBounds::kIllConditioned >= std::fabs(det)) {
+    if (r.is_void()) return false;
+    edge_error = exact_edge_functions(r, world, e);
     if (e.mixed_signs()) return false;
+    det = (e.u + e.v) + e.w;
   }
-  const float eu = e.u, ev = e.v, ew = e.w;
-  const float det = eu + ev + ew;
   if (det == 0.0f) return false;
   const float az = r.shear_z * s.az;
   const float bz = r.shear_z * s.bz;
   const float cz = r.shear_z * s.cz;
-  const float scaled_t = eu * az + ev * bz + ew * cz;
+  const float scaled_t = (e.u * az + e.v * bz) + e.w * cz;
   const float inv_det = 1.0f / det;
   const float t = scaled_t * inv_det * t_unscale;
   if (!(t > r.t_min && t < hit.t)) return false;
-  if (!clears_t_min(r, s, eu, ev, ew, inv_det, t, t_unscale)) return false;
+  if (!(t > r.t_min + t_error_bound(r, b, edge_error, inv_det) * t_unscale)) return false;
   hit.t = t;
   hit.prim_id = prim_id;
-  hit.u = ev * inv_det;
-  hit.v = ew * inv_det;
+  hit.u = e.v * inv_det;
+  hit.v = e.w * inv_det;
   return true;
 }
 
@@ -166,14 +201,15 @@ inline bool intersect_rescaled_triangle(const PreparedRay& r, ShearedTriangle s,
   const float scale = std::ldexp(1.0f, -exponent);
   for (float* v : {&s.ax, &s.ay, &s.az, &s.bx, &s.by, &s.bz, &s.cx, &s.cy, &s.cz}) *v *= scale;
   const EdgeFunctions e(s);
-  if (e.mixed_signs()) return false;
+  const TriangleErrorBounds b(r, s, std::ldexp(1.0f, -149 - exponent));
+  if (e.surely_mixed(b.edge_error)) return false;
   const TriangleForEdges scaled{world.v0, world.v1, world.v2, std::ldexp(1.0, -2 * exponent)};
-  return intersect_sheared_triangle(r, s, e, std::ldexp(1.0f, exponent), scaled, prim_id, hit);
+  return finish_sheared_triangle(r, s, e, b, std::ldexp(1.0f, exponent), scaled, prim_id, hit);
 }
 
 /// Tests triangle (v0, v1, v2) and, when it is hit with r.t_min < t < hit.t (t clearing t_min by its error bound),
 /// stores t, prim_id and the Embree-style barycentrics (p = (1-u-v)*v0 + u*v1 + v*v2) in hit and returns true.
-/// Triangles with NaN vertices are never hit. Requires -ffp-contract=off (see cmake/Warnings.cmake).
+/// Triangles with NaN vertices are never hit.
 inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
                                std::uint32_t prim_id, Hit& hit) {
   const Vec3 a = v0 - r.origin;
@@ -182,12 +218,13 @@ inline bool intersect_triangle(const PreparedRay& r, const Vec3& v0, const Vec3&
   const ShearedTriangle s{a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz],
                           b[r.kx] - r.shear_x * b[r.kz], b[r.ky] - r.shear_y * b[r.kz], b[r.kz],
                           c[r.kx] - r.shear_x * c[r.kz], c[r.ky] - r.shear_y * c[r.kz], c[r.kz]};
-  // Float edge functions of opposite signs are a miss in any range: overflow keeps the sign (inf - finite), and
-  // underflow can only turn a sign into zero. The rest is decided in the safe range, rescaled if need be.
+  // Edge functions of opposite signs beyond their error bound are a miss in any range (the bound is then finite).
+  // The rest is decided in the safe range, rescaled if need be.
   const EdgeFunctions e(s);
-  if (e.mixed_signs()) return false;
+  const TriangleErrorBounds bounds(r, s, 0.0f);
+  if (e.surely_mixed(bounds.edge_error)) return false;
   const TriangleForEdges world{v0, v1, v2};
-  if (in_safe_range(s)) return intersect_sheared_triangle(r, s, e, 1.0f, world, prim_id, hit);
+  if (in_safe_range(s)) return finish_sheared_triangle(r, s, e, bounds, 1.0f, world, prim_id, hit);
   return intersect_rescaled_triangle(r, s, world, prim_id, hit);
 }
 

@@ -224,22 +224,15 @@ struct WatertightLanes {
 
   /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
   /// functions or by `decided_miss`.
-  bool test(const F px[3], const F py[3], const F pz[3], const F& shear_z, const F& t_min, const F& t_far,
-            const F& decided_miss) {
+  bool test(const F px[3], const F py[3], const F pz[3], const F& shear_x, const F& shear_y, const F& shear_z,
+            const F& t_min, const F& t_far, const F& decided_miss) {
     // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
     const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
     ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));
     ew = S::sub(S::mul(px[1], py[0]), S::mul(py[1], px[0]));
-    const F zero = S::zero();
-    // Most tested triangles are missed, with edge functions of opposite signs, which decides them in any range and
-    // whatever an edge function of zero would be decided as (see ray_triangle.h): leave before anything else when
-    // no lane is left. min and max return one of their operands, so a lane found mixed here has a negative and a
-    // positive edge function; lanes with NaN this may miss are rejected below (det or t NaN) or by the scalar kernel.
-    const F mixed_signs =
-        S::bit_and(S::lt(S::min(eu, S::min(ev, ew)), zero), S::gt(S::max(eu, S::max(ev, ew)), zero));
-    const F decided = S::bit_or(mixed_signs, decided_miss);
-    if (S::movemask(decided) == (1 << S::kWidth) - 1) return false;
-    // Largest magnitudes of the x, y and (unsheared) z coordinates: the safe-range test and the bound on t's error.
+    // Largest magnitudes of the x, y and (unsheared) z coordinates, and the bound on the edge functions' error
+    // (TriangleErrorBounds of ray_triangle.h, operation for operation). max returns its second operand when either
+    // is NaN, so the running bound goes second.
     const F sign_bit = S::set1(-0.0f);
     F max_x = S::and_not(sign_bit, px[0]), max_y = S::and_not(sign_bit, py[0]), max_z = S::and_not(sign_bit, pz[0]);
     for (int v = 1; v < 3; ++v) {
@@ -247,36 +240,52 @@ struct WatertightLanes {
       max_y = S::max(S::and_not(sign_bit, py[v]), max_y);
       max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
     }
+    const F gamma3 = S::set1(float_gamma(3)), gamma5 = S::set1(float_gamma(5));
+    const F dx = S::add(S::mul(gamma3, max_x), S::mul(gamma5, S::mul(S::and_not(sign_bit, shear_x), max_z)));
+    const F dy = S::add(S::mul(gamma3, max_y), S::mul(gamma5, S::mul(S::and_not(sign_bit, shear_y), max_z)));
+    const F edge_error = S::add(
+        S::mul(S::add(S::mul(S::mul(S::set1(2.0f * float_gamma(2)), max_x), max_y),
+                      S::mul(S::set1(2.0f), S::add(S::add(S::mul(dx, max_y), S::mul(dy, max_x)), S::mul(dx, dy)))),
+               S::set1(WatertightBounds::kSlack)),
+        S::set1(WatertightBounds::kEdgeFloor));
+    // Most tested triangles are missed, with edge functions of opposite signs beyond their error bound, which
+    // decides them in any range (see ray_triangle.h): leave before anything else when no lane is left. min and max
+    // return one of their operands, so a lane found mixed here has one edge function below -error and one above it.
+    const F zero = S::zero();
+    const F mixed_signs = S::bit_and(S::lt(S::min(eu, S::min(ev, ew)), S::sub(zero, edge_error)),
+                                     S::gt(S::max(eu, S::max(ev, ew)), edge_error));
+    const F decided = S::bit_or(mixed_signs, decided_miss);
+    if (S::movemask(decided) == (1 << S::kWidth) - 1) return false;
     const F magnitude = S::max(max_x, S::max(max_y, max_z));
-    // Undecided lanes the float kernel cannot finish alone: an edge function of exactly zero (double-precision
-    // fallback) or coordinates outside the safe range (power-of-two rescaling), both done by the scalar kernel.
-    const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
-    const F on_edge_lanes = S::bit_or(S::bit_or(S::eq(eu, zero), S::eq(ev, zero)), S::eq(ew, zero));
-    const F unsafe = S::and_not(safe, S::all_ones());
-    on_edge = S::movemask(S::and_not(decided, S::bit_or(on_edge_lanes, unsafe)));
     const F det = S::add(S::add(eu, ev), ew);
+    // Undecided lanes the float kernel cannot finish alone, all done by the scalar kernel: an edge function within
+    // its error bound of zero or an error bound large against det (exact edge functions), or coordinates outside
+    // the safe range (power-of-two rescaling).
+    const F safe = S::bit_and(S::le(magnitude, S::set1(kShearSafeMax)), S::ge(magnitude, S::set1(kShearSafeMin)));
+    const F in_band = S::bit_or(S::bit_or(S::le(S::and_not(sign_bit, eu), edge_error),
+                                          S::le(S::and_not(sign_bit, ev), edge_error)),
+                                S::le(S::and_not(sign_bit, ew), edge_error));
+    const F ill_conditioned =
+        S::ge(S::mul(edge_error, S::set1(WatertightBounds::kIllConditioned)), S::and_not(sign_bit, det));
+    const F unsafe = S::and_not(safe, S::all_ones());
+    on_edge = S::movemask(S::and_not(decided, S::bit_or(S::bit_or(in_band, ill_conditioned), unsafe)));
     const F az = S::mul(shear_z, pz[0]);
     const F bz = S::mul(shear_z, pz[1]);
     const F cz = S::mul(shear_z, pz[2]);
     const F scaled_t = S::add(S::add(S::mul(eu, az), S::mul(ev, bz)), S::mul(ew, cz));
     inv_det = S::div(S::set1(1.0f), det);
     t = S::mul(scaled_t, inv_det);
-    // t must clear t_min by more than its rounding-error bound: t_error_bound() of ray_triangle.h, operation for
-    // operation (so SIMD and scalar accept the same hits).
-    const F max_zt = S::mul(S::and_not(sign_bit, shear_z), max_z);
-    const F delta_z = S::mul(S::set1(float_gamma(3)), max_zt);
-    const F delta_x = S::mul(S::set1(float_gamma(5)), S::add(max_x, max_zt));
-    const F delta_y = S::mul(S::set1(float_gamma(5)), S::add(max_y, max_zt));
-    const F delta_e = S::mul(S::set1(2.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(2)), max_x), max_y),
-                                                         S::mul(delta_y, max_x)),
-                                                  S::mul(delta_x, max_y)));
-    const F max_e =
-        S::max(S::and_not(sign_bit, eu), S::max(S::and_not(sign_bit, ev), S::and_not(sign_bit, ew)));
-    const F t_error = S::mul(
-        S::mul(S::set1(3.0f), S::add(S::add(S::mul(S::mul(S::set1(float_gamma(3)), max_e), max_zt),
-                                            S::mul(delta_e, max_zt)),
-                                     S::mul(delta_z, max_e))),
-        S::and_not(sign_bit, inv_det));
+    // t must clear t_min by more than its error bound: t_error_bound() of ray_triangle.h, operation for operation
+    // (so SIMD and scalar accept the same hits).
+    const F hi_z = S::max(pz[0], S::max(pz[1], pz[2]));
+    const F lo_z = S::min(pz[0], S::min(pz[1], pz[2]));
+    const F abs_shear_z = S::and_not(sign_bit, shear_z);
+    const F max_zt = S::mul(abs_shear_z, max_z);
+    const F range_zt = S::mul(abs_shear_z, S::sub(hi_z, lo_z));
+    const F t_error =
+        S::mul(S::add(S::mul(S::mul(S::mul(S::set1(3.0f), edge_error), S::and_not(sign_bit, inv_det)), range_zt),
+                      S::mul(S::set1(float_gamma(12)), max_zt)),
+               S::set1(WatertightBounds::kSlack));
     const F valid = S::and_not(
         decided, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(t_min, t_error)), S::lt(t, t_far))));
     hits = S::movemask(valid) & ~on_edge;
@@ -309,7 +318,9 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
     pz[v] = az;
   }
   WatertightLanes<S> lanes;
-  if (!lanes.test(px, py, pz, ray.shear_z, ray.t_min, S::set1(hit.t), S::padding(blocks))) return false;
+  const F t_far = S::set1(hit.t);
+  const F padding = S::padding(blocks);
+  if (!lanes.test(px, py, pz, ray.shear_x, ray.shear_y, ray.shear_z, ray.t_min, t_far, padding)) return false;
   bool updated = false;
   if (lanes.hits) {
     float t_lane[W], u_lane[W], v_lane[W];
@@ -359,7 +370,7 @@ inline int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* s
   }
   WatertightLanes<S> lanes;
   const F inactive = S::and_not(S::lanes_from_bits(rays), S::all_ones());
-  if (!lanes.test(px, py, pz, packet.shear_z, packet.t_min, t_far, inactive)) return 0;
+  if (!lanes.test(px, py, pz, packet.shear_x, packet.shear_y, packet.shear_z, packet.t_min, t_far, inactive)) return 0;
   const std::uint32_t prim_id = block.prim_id[i];
   int updated = 0;
   if (lanes.hits) {

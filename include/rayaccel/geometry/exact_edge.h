@@ -1,0 +1,29 @@
+// Exact edge functions of the watertight triangle test, for the rare rays whose float edge function lies inside its
+// rounding-error bound (see ray_triangle.h). The edge function of vertices p, q for the ray o + t d, in the ray's
+// sheared frame (axes kx, ky, kz, kz dominant), is
+//   E = X_p Y_q - Y_p X_q,  X = A_x - (d_x / d_z) A_z,  Y = A_y - (d_y / d_z) A_z,  A = vertex - o,
+// and E d_z = d_z (p_x q_y - p_y q_x) + d_x (p_y q_z - p_z q_y) + d_y (p_z q_x - p_x q_z) with p, q = A_p, A_q:
+// a sum of products of the float inputs, evaluated in double when a static error bound decides its sign, and
+// otherwise without any rounding by expansion arithmetic (Shewchuk 1997, "Adaptive Precision Floating-Point
+// Arithmetic and Fast Robust Geometric Predicates"). Compiled in the
+// library (src/geometry/exact_edge.cpp), so the caller's floating-point flags cannot change it.
+#pragma once
+
+#include "rayaccel/core/vec3.h"
+
+namespace rayaccel {
+
+/// An edge function with its exact sign and its value to within `error`.
+struct ExactEdge {
+  int sign = 0;        ///< -1, 0 or +1: the sign of the exact value
+  double value = 0.0;  ///< of that sign (0 exactly when sign is 0)
+  double error = 0.0;  ///< bound on |value - exact value|, below |value| (at most 2^-50 |value| when computed exactly)
+};
+
+/// The edge function E of vertices p, q (E = X_p Y_q - Y_p X_q) for the ray from `origin` along `direction`, in the
+/// frame of axes kx, ky, kz (kz: the direction's dominant axis, d[kz] != 0), from the float inputs: in double when
+/// its error bound decides the sign, else exactly. Inputs must be finite.
+ExactEdge exact_edge_function(const Vec3& origin, const Vec3& direction, int kx, int ky, int kz, const Vec3& p,
+                              const Vec3& q);
+
+}  // namespace rayaccel
