@@ -16,6 +16,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ray_io.h"
+#include "rayaccel/version.h"
 
 namespace rayaccel {
 namespace {
@@ -184,6 +185,15 @@ TEST(CliTrace, OcclusionWritesOccFile) {
   const nlohmann::json summary = last_line_json(result.out);
   EXPECT_EQ(summary["threads"], 1);
   EXPECT_EQ(summary["hit_count"], std::count(expected.begin(), expected.end(), std::uint8_t{1}));
+}
+
+TEST(Cli, VersionPrintsTheVersionHeader) {
+  const auto result = run_cli({"--version"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, std::string("rayaccel ") + RAYACCEL_VERSION_STRING + "\n");
+  EXPECT_EQ(RAYACCEL_VERSION_STRING, std::to_string(RAYACCEL_VERSION_MAJOR) + "." +
+                                         std::to_string(RAYACCEL_VERSION_MINOR) + "." +
+                                         std::to_string(RAYACCEL_VERSION_PATCH));
 }
 
 TEST(CliList, NamesPrintsExactlyTheVariantNames) {
