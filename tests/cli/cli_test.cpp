@@ -143,13 +143,14 @@ TEST(CliTrace, HitsFileEqualsInProcessBruteForce) {
 
   const nlohmann::json summary = last_line_json(result.out);
   for (const char* key : {"accel", "scene", "primitives", "rays", "threads", "build_ms_median", "trace_ms_median",
-                          "mrays_s_median", "hit_count", "memory_bytes"}) {
+                          "mrays_s_median", "hit_count", "memory_bytes", "scene_memory_bytes"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_EQ(summary["accel"], "brute_force");
   EXPECT_EQ(summary["rays"], rays.size());
   EXPECT_EQ(summary["primitives"], scene.primitive_count());
   EXPECT_EQ(summary["hit_count"], found);
+  EXPECT_EQ(summary["scene_memory_bytes"], scene.memory_bytes()) << "the scene's arrays, apart from the structure's";
 }
 
 TEST(CliTrace, PacketsGiveTheClosestHits) {
