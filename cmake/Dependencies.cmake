@@ -1,10 +1,21 @@
-# Every dependency comes from Debian packages installed by scripts/setup.sh.
+# Every dependency comes from Debian packages installed by scripts/setup.sh. The library itself needs only TBB
+# (and stb's header to compile PNG output); the rest is for mesh import, the CLI, the tests and the benchmarks.
+if(RAYACCEL_BUILD_TESTS AND NOT (RAYACCEL_BUILD_CLI AND RAYACCEL_WITH_ASSIMP))
+  message(FATAL_ERROR "rayaccel: RAYACCEL_BUILD_TESTS=ON needs RAYACCEL_BUILD_CLI=ON and RAYACCEL_WITH_ASSIMP=ON "
+                      "(the tests run the CLI and read mesh files)")
+endif()
 find_package(TBB REQUIRED)
-find_package(assimp REQUIRED)
-find_package(fmt REQUIRED)
-find_package(CLI11 REQUIRED)
-find_package(nlohmann_json REQUIRED)
 find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
+if(RAYACCEL_WITH_ASSIMP)
+  find_package(assimp REQUIRED)
+endif()
+if(RAYACCEL_BUILD_CLI)
+  find_package(fmt REQUIRED)
+  find_package(CLI11 REQUIRED)
+endif()
+if(RAYACCEL_BUILD_CLI OR RAYACCEL_BUILD_TESTS)
+  find_package(nlohmann_json REQUIRED)
+endif()
 if(RAYACCEL_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

@@ -25,7 +25,7 @@ Command add_info_command(CLI::App& root) {
             fmt::print("primitives:  {}\n", scene.primitive_count());
             fmt::print("invalid:     {}\n", scene.invalid_count());
             fmt::print("degenerate:  {}\n", scene.degenerate_count());
-            if (scene.kind() == PrimitiveKind::triangles) fmt::print("vertices:    {}\n", scene.mesh().vertices.size());
+            if (scene.kind() == PrimitiveKind::triangles) fmt::print("vertices:    {}\n", scene.vertex_count());
             if (b.is_empty()) {
               fmt::print("bounds:      empty\n");
             } else {

@@ -7,11 +7,13 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "rayaccel/version.h"
 
 int main(int argc, char** argv) {
   using namespace rayaccel::cli;
   CLI::App app{"rayaccel: ray-tracing acceleration structures behind one API, traced, rendered and benchmarked"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("rayaccel ") + RAYACCEL_VERSION_STRING);
   const std::vector<Command> commands = {add_list_command(app), add_info_command(app), add_trace_command(app),
                                          add_render_command(app), add_bench_command(app)};
   if (argc > 1 && argv[1][0] != '-') {
@@ -31,6 +33,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "rayaccel: error: " << e.what() << "\n";

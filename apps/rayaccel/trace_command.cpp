@@ -94,6 +94,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(rays.size()) / (trace_median * 1e3) : 0.0},
       {"hit_count", hit_count},
       {"memory_bytes", accel->memory_bytes()},
+      {"scene_memory_bytes", scene.memory_bytes()},
   };
   if (!args.out.empty()) summary["out"] = args.out;
   fmt::print("{}\n", summary.dump());

@@ -122,6 +122,7 @@ EmbreeAccelerator::~EmbreeAccelerator() {
 
 void EmbreeAccelerator::build(const Scene& scene) {
   if (scene.kind() != PrimitiveKind::triangles) throw Error("embree comparison supports triangle scenes only");
+  if (scene.borrows_buffers()) throw Error("embree comparison needs a scene that owns its mesh (Scene::from_mesh)");
   State& s = *state_;
   s.release_scene();
   s.source = &scene;

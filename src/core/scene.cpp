@@ -1,7 +1,9 @@
-// Scene construction: validates primitives, derives per-primitive bounds and counts invalid and degenerate ones.
+// Scene construction: validates primitives, derives per-primitive bounds and counts invalid and degenerate ones;
+// triangles come from an owned mesh or from the caller's buffers.
 #include "rayaccel/core/scene.h"
 
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -50,6 +52,49 @@ Scene Scene::from_mesh(TriangleMesh mesh, std::string name) {
   return s;
 }
 
+Scene Scene::from_buffers(const MeshBuffers& buffers, std::string name) {
+  const std::size_t index_size = buffers.index_type == IndexType::uint16 ? 2 : 4;
+  if (buffers.vertex_count > 0 && buffers.vertices == nullptr) throw Error("from_buffers: vertices is null");
+  if (buffers.triangle_count > 0 && buffers.indices == nullptr) throw Error("from_buffers: indices is null");
+  if (buffers.vertex_stride < 3 * sizeof(float)) {
+    throw Error("from_buffers: vertex_stride " + std::to_string(buffers.vertex_stride) +
+                " is under the 12 bytes of three float32");
+  }
+  if (buffers.triangle_stride != 0 && buffers.triangle_stride < 3 * index_size) {
+    throw Error("from_buffers: triangle_stride " + std::to_string(buffers.triangle_stride) + " is under the " +
+                std::to_string(3 * index_size) + " bytes of three indices");
+  }
+  if (buffers.triangle_count >= std::uint32_t(-1)) throw Error("from_buffers: 2^32 - 1 triangles or more");
+  Scene s;
+  s.name_ = std::move(name);
+  s.kind_ = PrimitiveKind::triangles;
+  s.borrowed_ = true;
+  s.buffers_ = buffers;
+  if (s.buffers_.triangle_stride == 0) s.buffers_.triangle_stride = 3 * index_size;
+  const auto* indices = static_cast<const unsigned char*>(buffers.indices);
+  for (std::size_t i = 0; i < buffers.triangle_count; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      std::uint32_t index = 0;
+      const unsigned char* at = indices + i * s.buffers_.triangle_stride + k * index_size;
+      if (index_size == 2) {
+        std::uint16_t narrow;
+        std::memcpy(&narrow, at, sizeof(narrow));
+        index = narrow;
+      } else {
+        std::memcpy(&index, at, sizeof(index));
+      }
+      if (index >= buffers.vertex_count) {
+        throw Error("from_buffers: triangle " + std::to_string(i) + " uses vertex index " + std::to_string(index) +
+                    ", but there are only " + std::to_string(buffers.vertex_count) + " vertices");
+      }
+    }
+  }
+  s.prim_bounds_.resize(buffers.triangle_count);
+  for (std::uint32_t i = 0; i < buffers.triangle_count; ++i) s.derive_triangle(i);
+  s.finish_bounds();
+  return s;
+}
+
 Scene Scene::from_spheres(std::vector<Sphere> spheres, std::string name) {
   Scene s;
   s.name_ = std::move(name);
@@ -86,18 +131,19 @@ Scene Scene::from_user(UserPrimitives prims, std::string name) {
   return s;
 }
 
-void Scene::derive_triangle(std::uint32_t id) {
+std::array<Vec3, 3> Scene::source_triangle(std::uint32_t id) const {
+  if (borrowed_) return buffer_triangle(id);
   const auto& idx = mesh_.triangles[id];
-  const Vec3& a = mesh_.vertices[idx[0]];
-  const Vec3& b = mesh_.vertices[idx[1]];
-  const Vec3& c = mesh_.vertices[idx[2]];
-  if (is_finite(a) && is_finite(b) && is_finite(c) && !has_zero_area(a, b, c)) {
-    triangle_vertices_[id] = {a, b, c};
-    prim_bounds_[id] = AABB::of_point(a).extend(b).extend(c);
-  } else {
-    triangle_vertices_[id] = {Vec3{}, Vec3{}, Vec3{}};  // a point: the watertight test never hits it
-    prim_bounds_[id] = AABB::empty();
-  }
+  return {mesh_.vertices[idx[0]], mesh_.vertices[idx[1]], mesh_.vertices[idx[2]]};
+}
+
+void Scene::derive_triangle(std::uint32_t id) {
+  const auto [a, b, c] = source_triangle(id);
+  const bool valid = is_finite(a) && is_finite(b) && is_finite(c) && !has_zero_area(a, b, c);
+  prim_bounds_[id] = valid ? AABB::of_point(a).extend(b).extend(c) : AABB::empty();
+  // Owned meshes keep a tracing copy; an excluded triangle's is a point, which the watertight test never hits.
+  // Borrowed ones test is_valid() instead (see intersect()).
+  if (!borrowed_) triangle_vertices_[id] = valid ? std::array<Vec3, 3>{a, b, c} : std::array<Vec3, 3>{};
 }
 
 void Scene::finish_bounds() {
@@ -112,8 +158,7 @@ void Scene::finish_bounds() {
     // Excluded: a degenerate triangle has finite vertices in the mesh; an invalid primitive does not.
     bool degenerate = false;
     if (kind_ == PrimitiveKind::triangles) {
-      const auto& idx = mesh_.triangles[i];
-      const Vec3 &a = mesh_.vertices[idx[0]], &b = mesh_.vertices[idx[1]], &c = mesh_.vertices[idx[2]];
+      const auto [a, b, c] = source_triangle(i);
       degenerate = is_finite(a) && is_finite(b) && is_finite(c);
     }
     ++(degenerate ? degenerate_count_ : invalid_count_);
@@ -131,7 +176,7 @@ PrimRefs Scene::build_references(std::size_t extra_capacity) const {
 
 int Scene::hull_points(std::uint32_t id, std::array<Vec3, 8>& out) const {
   if (kind_ == PrimitiveKind::triangles) {
-    const auto& t = triangle_vertices_[id];
+    const std::array<Vec3, 3> t = triangle(id);
     out[0] = t[0];
     out[1] = t[1];
     out[2] = t[2];
@@ -149,7 +194,7 @@ Vec3 Scene::normal(const Ray& ray, const Hit& hit) const {
   const Vec3 p = ray.origin + ray.direction * hit.t;
   switch (kind_) {
     case PrimitiveKind::triangles: {
-      const auto& t = triangle_vertices_[hit.prim_id];
+      const std::array<Vec3, 3> t = triangle(hit.prim_id);
       return normalize(cross(t[1] - t[0], t[2] - t[0]));
     }
     case PrimitiveKind::spheres:
@@ -162,6 +207,7 @@ Vec3 Scene::normal(const Ray& ray, const Hit& hit) const {
 
 void Scene::set_vertices(std::span<const Vec3> vertices) {
   if (kind_ != PrimitiveKind::triangles) throw Error("set_vertices: the scene does not hold a triangle mesh");
+  if (borrowed_) throw Error("set_vertices: the scene reads the caller's buffers; write them, then buffers_changed()");
   if (vertices.size() != mesh_.vertices.size()) {
     throw Error("set_vertices: got " + std::to_string(vertices.size()) + " vertices, the mesh has " +
                 std::to_string(mesh_.vertices.size()));
@@ -171,9 +217,16 @@ void Scene::set_vertices(std::span<const Vec3> vertices) {
   finish_bounds();
 }
 
+void Scene::buffers_changed() {
+  if (!borrowed_) throw Error("buffers_changed: the scene owns its mesh; use set_vertices()");
+  for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) derive_triangle(i);
+  finish_bounds();
+}
+
 std::uint32_t Scene::append_triangles(std::span<const Vec3> vertices,
                                       std::span<const std::array<std::uint32_t, 3>> tris) {
   if (kind_ != PrimitiveKind::triangles) throw Error("append_triangles: the scene does not hold a triangle mesh");
+  if (borrowed_) throw Error("append_triangles: the scene reads the caller's buffers, which it cannot grow");
   const auto first_id = static_cast<std::uint32_t>(mesh_.triangles.size());
   const std::size_t new_vertex_count = mesh_.vertices.size() + vertices.size();
   for (std::size_t i = 0; i < tris.size(); ++i) {

@@ -16,6 +16,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ray_io.h"
+#include "rayaccel/version.h"
 
 namespace rayaccel {
 namespace {
@@ -142,13 +143,14 @@ TEST(CliTrace, HitsFileEqualsInProcessBruteForce) {
 
   const nlohmann::json summary = last_line_json(result.out);
   for (const char* key : {"accel", "scene", "primitives", "rays", "threads", "build_ms_median", "trace_ms_median",
-                          "mrays_s_median", "hit_count", "memory_bytes"}) {
+                          "mrays_s_median", "hit_count", "memory_bytes", "scene_memory_bytes"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_EQ(summary["accel"], "brute_force");
   EXPECT_EQ(summary["rays"], rays.size());
   EXPECT_EQ(summary["primitives"], scene.primitive_count());
   EXPECT_EQ(summary["hit_count"], found);
+  EXPECT_EQ(summary["scene_memory_bytes"], scene.memory_bytes()) << "the scene's arrays, apart from the structure's";
 }
 
 TEST(CliTrace, PacketsGiveTheClosestHits) {
@@ -184,6 +186,15 @@ TEST(CliTrace, OcclusionWritesOccFile) {
   const nlohmann::json summary = last_line_json(result.out);
   EXPECT_EQ(summary["threads"], 1);
   EXPECT_EQ(summary["hit_count"], std::count(expected.begin(), expected.end(), std::uint8_t{1}));
+}
+
+TEST(Cli, VersionPrintsTheVersionHeader) {
+  const auto result = run_cli({"--version"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, std::string("rayaccel ") + RAYACCEL_VERSION_STRING + "\n");
+  EXPECT_EQ(RAYACCEL_VERSION_STRING, std::to_string(RAYACCEL_VERSION_MAJOR) + "." +
+                                         std::to_string(RAYACCEL_VERSION_MINOR) + "." +
+                                         std::to_string(RAYACCEL_VERSION_PATCH));
 }
 
 TEST(CliList, NamesPrintsExactlyTheVariantNames) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../cli/cli_runner.h"
+#include "../shared_scenes.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ray_io.h"
@@ -93,12 +94,12 @@ std::vector<Ray> bunny_rays(const std::filesystem::path& ply, const TriangleMesh
 }
 
 TEST(SlowReference, BunnyBruteForceMatchesIndependentReference) {
-  const std::filesystem::path ply = std::filesystem::path(RAYACCEL_SHARED_SCENES) / "bunny.ply";
+  const std::filesystem::path ply = testing::shared_scenes_dir() / "bunny.ply";
   const std::filesystem::path script =
       std::filesystem::path(RAYACCEL_SOURCE_DIR) / "tests" / "reference" / "reference_trace.py";
-  // Not skipped when missing: CI has ../shared, and scripts/setup.sh installs python3-numpy, so either missing means
-  // a broken setup, which should show as a failure rather than pass silently.
-  if (!std::filesystem::exists(ply)) FAIL() << "shared scene missing: " << ply;
+  RAYACCEL_NEED_SHARED_FILE(ply);
+  RAYACCEL_NEED_SHARED_FILE(testing::shared_scenes_dir() / "MANIFEST.md");  // the standard camera
+  // Not skipped when missing: scripts/setup.sh installs python3-numpy, so its absence is a broken setup.
   if (testing::run_program("/usr/bin/python3", {"-c", "import numpy"}).exit_code != 0) {
     FAIL() << "/usr/bin/python3 with numpy (Debian python3-numpy, installed by scripts/setup.sh) is needed for the "
               "reference tracer";

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "../shared_scenes.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/render/camera.h"
 
@@ -146,7 +147,8 @@ TEST(Camera, FramingDegenerateBoxesHasNoNaN) {
 }
 
 TEST(StandardCamera, ParsesTheSharedManifestForBunny) {
-  const std::filesystem::path scenes = RAYACCEL_SHARED_SCENES;
+  const std::filesystem::path scenes = testing::shared_scenes_dir();
+  RAYACCEL_NEED_SHARED_FILE(scenes / "MANIFEST.md");
   const auto cam = standard_camera(scenes / "bunny.ply");
   ASSERT_TRUE(cam.has_value());
   EXPECT_EQ(cam->eye, (Vec3{0.17f, 0.17f, 0.24f}));

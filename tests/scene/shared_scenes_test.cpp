@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../shared_scenes.h"
 #include "rayaccel/scene/import.h"
 
 namespace rayaccel {
@@ -27,9 +28,8 @@ const ManifestEntry kManifest[] = {
 };
 
 TEST(SlowSharedScenes, LoadWithTheManifestCounts) {
-  const std::filesystem::path dir = RAYACCEL_SHARED_SCENES;
-  // Not skipped when missing: CI always has ../shared beside the checkout, so a missing folder is a broken setup.
-  if (!std::filesystem::exists(dir / "MANIFEST.md")) FAIL() << "no shared scenes at " << dir << " (../shared/scenes)";
+  const std::filesystem::path dir = testing::shared_scenes_dir();
+  for (const auto& m : kManifest) RAYACCEL_NEED_SHARED_FILE(dir / m.file);
   for (const auto& m : kManifest) {
     SCOPED_TRACE(m.file);
     const Scene scene = load_scene((dir / m.file).string());

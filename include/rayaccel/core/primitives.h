@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -19,6 +20,22 @@ namespace rayaccel {
 struct TriangleMesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+/// Width of the indices in MeshBuffers.
+enum class IndexType { uint16, uint32 };
+
+/// Triangle buffers owned by the caller, read in place by Scene::from_buffers() (which states the lifetime rule).
+/// Vertex i is three float32 (x, y, z) at `vertices + i * vertex_stride` bytes; triangle t is three indices of
+/// `index_type` at `indices + t * triangle_stride` bytes. Unaligned buffers are fine (they are read with memcpy).
+struct MeshBuffers {
+  const void* vertices = nullptr;
+  std::size_t vertex_count = 0;
+  std::size_t vertex_stride = 3 * sizeof(float);  ///< bytes from one vertex to the next, at least 12
+  const void* indices = nullptr;
+  std::size_t triangle_count = 0;
+  IndexType index_type = IndexType::uint32;
+  std::size_t triangle_stride = 0;  ///< bytes from one triangle's indices to the next; 0 means packed (3 indices)
 };
 
 struct Sphere {

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <vector>
@@ -33,7 +34,16 @@ const char* to_string(PrimitiveKind kind);
 class Scene {
  public:
   Scene() = default;
+  /// A triangle scene that owns a copy of `mesh` (moved in when given an rvalue).
   static Scene from_mesh(TriangleMesh mesh, std::string name = "mesh");
+  /// A triangle scene over the caller's buffers, which it reads in place and never copies: the scene keeps only
+  /// per-triangle bounds (24 bytes a triangle). Lifetime rule: the buffers must stay alive, at the same addresses,
+  /// for as long as the scene or any accelerator built over it is used, and must not change meanwhile; after
+  /// writing new vertex positions in place, call buffers_changed() on the scene, then refit or rebuild the
+  /// accelerators. Indices must not change at all (make a new scene). Throws Error for a null pointer with a
+  /// non-zero count, a vertex stride under 12 bytes, a triangle stride under three indices, or an index >=
+  /// vertex_count (naming the triangle).
+  static Scene from_buffers(const MeshBuffers& buffers, std::string name = "buffers");
   static Scene from_spheres(std::vector<Sphere> spheres, std::string name = "spheres");
   static Scene from_user(UserPrimitives prims, std::string name = "user");
 
@@ -65,6 +75,11 @@ class Scene {
   bool intersect(std::uint32_t id, const PreparedRay& ray, Hit& hit) const {
     switch (kind_) {
       case PrimitiveKind::triangles: {
+        if (borrowed_) {
+          if (!is_valid(id)) return false;
+          const std::array<Vec3, 3> t = buffer_triangle(id);
+          return intersect_triangle(ray, t[0], t[1], t[2], id, hit);
+        }
         const auto& t = triangle_vertices_[id];
         return intersect_triangle(ray, t[0], t[1], t[2], id, hit);
       }
@@ -82,29 +97,66 @@ class Scene {
   Vec3 normal(const Ray& ray, const Hit& hit) const;
 
   // Triangle access (kind() == triangles).
+  /// The owned mesh; empty for a scene over caller buffers (borrows_buffers()).
   const TriangleMesh& mesh() const { return mesh_; }
-  /// The three vertices of triangle id as stored for tracing (all zero for an invalid or degenerate triangle).
-  const std::array<Vec3, 3>& triangle(std::uint32_t id) const { return triangle_vertices_[id]; }
+  /// True for a scene made by from_buffers(), which reads the caller's arrays.
+  bool borrows_buffers() const { return borrowed_; }
+  /// Vertices of the mesh, owned or borrowed.
+  std::size_t vertex_count() const { return borrowed_ ? buffers_.vertex_count : mesh_.vertices.size(); }
+  /// The three vertices of triangle id as traced (all zero for an invalid or degenerate triangle).
+  std::array<Vec3, 3> triangle(std::uint32_t id) const {
+    if (!borrowed_) return triangle_vertices_[id];
+    return is_valid(id) ? buffer_triangle(id) : std::array<Vec3, 3>{};
+  }
   /// Replaces the vertex positions (same count and topology) and updates every derived bound: the input of refit.
+  /// Throws Error for a scene over caller buffers (write them, then call buffers_changed()).
   void set_vertices(std::span<const Vec3> vertices);
+  /// Re-reads the caller's buffers after their vertex positions changed in place, and updates every derived bound:
+  /// the input of refit. Throws Error for a scene that owns its mesh.
+  void buffers_changed();
   /// Appends triangles (indices into the new vertex list after `vertices` are appended); returns the first new id.
+  /// Throws Error for a scene over caller buffers.
   std::uint32_t append_triangles(std::span<const Vec3> vertices, std::span<const std::array<std::uint32_t, 3>> tris);
 
   // Sphere and user access.
   const std::vector<Sphere>& spheres() const { return spheres_; }
   const UserPrimitives& user_primitives() const { return user_; }
 
-  /// Bytes held by the scene's own arrays (not counted in any accelerator's memory).
+  /// Bytes held by the scene's own arrays (not counted in any accelerator's memory; caller buffers not counted).
   std::size_t memory_bytes() const;
 
  private:
+  /// Triangle id read from the caller's buffers (indices were checked when the scene was made).
+  std::array<Vec3, 3> buffer_triangle(std::uint32_t id) const {
+    const auto* indices = static_cast<const unsigned char*>(buffers_.indices) + id * buffers_.triangle_stride;
+    const auto* vertices = static_cast<const unsigned char*>(buffers_.vertices);
+    std::array<Vec3, 3> out;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t index;
+      if (buffers_.index_type == IndexType::uint16) {
+        std::uint16_t narrow;
+        std::memcpy(&narrow, indices + k * sizeof(narrow), sizeof(narrow));
+        index = narrow;
+      } else {
+        std::memcpy(&index, indices + k * sizeof(index), sizeof(index));
+      }
+      float xyz[3];
+      std::memcpy(xyz, vertices + index * buffers_.vertex_stride, sizeof(xyz));
+      out[k] = Vec3{xyz[0], xyz[1], xyz[2]};
+    }
+    return out;
+  }
+  /// The three vertices of triangle id as given (owned mesh or caller buffers), before validation.
+  std::array<Vec3, 3> source_triangle(std::uint32_t id) const;
   void derive_triangle(std::uint32_t id);
   void finish_bounds();
 
   std::string name_;
   PrimitiveKind kind_ = PrimitiveKind::triangles;
   TriangleMesh mesh_;
-  std::vector<std::array<Vec3, 3>> triangle_vertices_;
+  MeshBuffers buffers_;  // with borrowed_: the caller's arrays, triangle_stride resolved (never 0)
+  bool borrowed_ = false;
+  std::vector<std::array<Vec3, 3>> triangle_vertices_;  // owned meshes only
   std::vector<Sphere> spheres_;
   UserPrimitives user_;
   std::vector<AABB> prim_bounds_;

@@ -13,7 +13,7 @@
 namespace rayaccel {
 
 /// Reads a mesh file. Throws Error naming the file and the fault: unreadable, not a mesh, no triangles, index out
-/// of range. NaN/Inf vertices are kept (the Scene marks their triangles invalid, see scene.h); points and lines
+/// of range, or a build without mesh import (RAYACCEL_WITH_ASSIMP=OFF, RAYACCEL_HAVE_MESH_IMPORT == 0). NaN/Inf vertices are kept (the Scene marks their triangles invalid, see scene.h); points and lines
 /// are skipped.
 /// - assimp runs with no post-processing step at all, so faces keep their file order; polygons are then
 ///   fan-triangulated (0, i, i+1) here. A file with several meshes is concatenated in scene-graph order: the node
