@@ -1,0 +1,90 @@
+"""Benchmark (not a test): accel.intersect() from Python against `rayaccel trace` on the same 1M rays, structure and
+thread count; checks that both give the same .hits bytes before printing any figure.
+
+    PYTHONPATH=build/python /usr/bin/python3 python/benchmarks/intersect_vs_trace.py \
+        --cli build/bin/rayaccel --scene ../shared/scenes/bunny.ply --threads 1 2
+
+Ray kinds: primary (a 1000 x 1000 camera image, the CLI's default camera) and diffuse (the bench's cosine bounces
+from the hits of larger camera images, the first 1M). Each figure is the median of --repeat passes, as the CLI's.
+"""
+import argparse
+import json
+import statistics
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import rayaccel
+
+
+def make_rays(scene, kind, count):
+    camera = rayaccel.Camera.framing(scene)
+    side = int(np.ceil(np.sqrt(count)))
+    if kind == "primary":
+        return np.ascontiguousarray(camera.rays(side, side).reshape(-1, 8)[:count])
+    accel = rayaccel.build(scene)
+    while True:
+        primary = camera.rays(side, side).reshape(-1, 8)
+        diffuse = rayaccel.diffuse_rays(scene, primary, accel.intersect(primary), seed=1)
+        if len(diffuse) >= count:
+            return np.ascontiguousarray(diffuse[:count])
+        side = int(side * 1.5)
+
+
+def cli_trace(cli, scene, rays_path, accel, threads, repeat, out):
+    run = subprocess.run([cli, "trace", scene, str(rays_path), "--accel", accel, "--threads", str(threads),
+                          "--repeat", str(repeat), "--out", str(out)], capture_output=True, text=True, check=True)
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def python_trace(scene, rays, accel_spec, threads, repeat, form):
+    with rayaccel.thread_limit(threads):
+        accel = rayaccel.build(scene, accel_spec)
+        times, hits = [], None
+        for _ in range(repeat):
+            start = time.perf_counter()
+            if form == "rays":
+                hits = accel.intersect(rays)
+            else:
+                hits = accel.intersect(rays[:, 0:3], rays[:, 4:7], t_min=rays[:, 3], t_max=rays[:, 7])
+            times.append((time.perf_counter() - start) * 1e3)
+    return statistics.median(times), hits
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--cli", required=True)
+    parser.add_argument("--scene", default="builtin:default")
+    parser.add_argument("--accel", default="bvh_wide")
+    parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--kinds", nargs="+", default=["primary", "diffuse"])
+    parser.add_argument("--count", type=int, default=1_000_000)
+    parser.add_argument("--repeat", type=int, default=7)
+    args = parser.parse_args()
+    scene = rayaccel.load(args.scene)
+    print(f"scene {scene.name}: {scene.primitive_count} primitives; {args.accel}; {args.count} rays; "
+          f"median of {args.repeat} passes; rayaccel {rayaccel.__version__}")
+    print(f"{'rays':8} {'threads':>7} {'CLI ms':>8} {'Py ms':>8} {'Py/CLI':>7} {'Py (o,d) ms':>12}  same bytes")
+    with tempfile.TemporaryDirectory() as tmp:
+        for kind in args.kinds:
+            rays = make_rays(scene, kind, args.count)
+            rays_path = Path(tmp) / f"{kind}.rays"
+            rays.tofile(rays_path)
+            for threads in args.threads:
+                summary = cli_trace(args.cli, args.scene, rays_path, args.accel, threads, args.repeat,
+                                    Path(tmp) / "cli.hits")
+                py_ms, hits = python_trace(scene, rays, args.accel, threads, args.repeat, "rays")
+                parts_ms, _ = python_trace(scene, rays, args.accel, threads, args.repeat, "parts")
+                same = hits.tobytes() == (Path(tmp) / "cli.hits").read_bytes()
+                cli_ms = summary["trace_ms_median"]
+                print(f"{kind:8} {threads:7d} {cli_ms:8.1f} {py_ms:8.1f} {py_ms / cli_ms:7.3f} {parts_ms:12.1f}  "
+                      f"{'yes' if same else 'NO'}")
+                if not same:
+                    raise SystemExit("Python and CLI hits differ")
+
+
+if __name__ == "__main__":
+    main()
