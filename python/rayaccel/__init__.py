@@ -11,6 +11,8 @@ they are made from once (the C++ Scene owns its geometry), so the input arrays m
 import contextlib
 import os
 
+import numpy as np
+
 from . import _core
 from ._core import Scene, __version__, set_threads, specs, threads
 from ._rays import HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
@@ -93,12 +95,17 @@ class Accelerator(_core._Accelerator):
         return f"<rayaccel.Accelerator '{self.spec}' {state}>"
 
     def intersect(self, rays, directions=None, t_min=None, t_max=None, *, points=False, normals=False,
-                  stats=False, packets=False, check=True):
+                  stats=False, packets=False, check=True, out=None):
         """Closest hits as Hits (t, prim_id, u, v shaped like the rays; points and normals, per-ray statistics on
         request). packets=True traces each run of eight rays as one packet (intersect_packets(): for coherent rays,
-        such as camera rays in 4 x 2 pixel tiles; same closest hits, no statistics)."""
+        such as camera rays in 4 x 2 pixel tiles; same closest hits, no statistics). out: the Hits of an earlier
+        call with as many rays, overwritten instead of allocating new records (for loops over same-sized batches)."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
-        records, counts = self._intersect(flat, bool(stats), bool(packets), bool(check))
+        if out is not None:
+            if not isinstance(out, Hits):
+                raise TypeError(f"out must be the Hits of an earlier intersect(), not {type(out).__name__}")
+            out = out.records.reshape(-1).view(np.uint8).reshape(-1, HIT_DTYPE.itemsize)
+        records, counts = self._intersect(flat, bool(stats), bool(packets), bool(check), out)
         p = n = None
         if points or normals:
             p, n = self._surface(flat, records)

@@ -67,11 +67,25 @@ class PyAccelerator {
   }
 
   /// Closest hits: (N, 16) uint8 records in the .hits layout, and (N, 2) uint64 statistics or None.
-  py::tuple intersect(const py::handle& rays_object, bool with_stats, bool packets, bool check) const {
+  /// `out`: None, or an (N, 16) uint8 C-contiguous writable array the records are written into (and returned).
+  py::tuple intersect(const py::handle& rays_object, bool with_stats, bool packets, bool check,
+                      const py::object& out) const {
     const auto rays_array = float_rows(rays_object, 8, "rays");
     const std::span<const Ray> rays = ray_view(rays_array);
     if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
-    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(rays.size()), py::ssize_t{16}});
+    py::array_t<std::uint8_t> records;
+    if (out.is_none()) {
+      records = py::array_t<std::uint8_t>({static_cast<py::ssize_t>(rays.size()), py::ssize_t{16}});
+    } else {
+      const auto given = py::reinterpret_borrow<py::array>(out);
+      if (!py::isinstance<py::array_t<std::uint8_t>>(out) || given.ndim() != 2 || given.shape(1) != 16 ||
+          static_cast<std::size_t>(given.shape(0)) != rays.size() || !(given.flags() & py::array::c_style) ||
+          !given.writeable()) {
+        throw ValueError("out must hold one writable, C-contiguous hit record per ray (" + std::to_string(rays.size()) +
+                         " rays)");
+      }
+      records = py::reinterpret_borrow<py::array_t<std::uint8_t>>(out);
+    }
     py::object stats_array = py::none();
     std::span<TraversalStats> stats;
     if (with_stats) {
@@ -210,7 +224,7 @@ void bind_accelerator(py::module_& m) {
       .def("build_statistics", &PyAccelerator::build_statistics)
       .def("validate", &PyAccelerator::validate)
       .def("_intersect", &PyAccelerator::intersect, py::arg("rays"), py::arg("stats"), py::arg("packets"),
-           py::arg("check"))
+           py::arg("check"), py::arg("out"))
       .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("check"))
       .def("_surface", &PyAccelerator::surface, py::arg("rays"), py::arg("records"))
       .def("_render", [](const PyAccelerator& self, const std::array<float, 3>& eye, const std::array<float, 3>& at,

@@ -151,3 +151,16 @@ def test_secondary_rays(soup):
     assert diffuse.shape == shadow.shape == (int(hits.hit.sum()), 8)
     assert (shadow[:, 7] == np.float32(0.5)).all() and np.isinf(diffuse[:, 7]).all()
     assert accel.occluded(shadow).dtype == np.bool_
+
+
+def test_out_reuses_the_records(soup):
+    accel = rayaccel.build(soup)
+    rays = random_rays(soup, 300)
+    first = accel.intersect(rays)
+    expected = first.tobytes()
+    again = accel.intersect(rays, out=first)
+    assert np.shares_memory(again.records, first.records) and again.tobytes() == expected
+    with pytest.raises(ValueError, match="out must hold one writable"):
+        accel.intersect(rays[:10], out=first)
+    with pytest.raises(TypeError, match="out must be the Hits"):
+        accel.intersect(rays, out=np.zeros((300, 16), np.uint8))
