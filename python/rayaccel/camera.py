@@ -53,6 +53,8 @@ def render(accel, camera=None, width=512, height=512, mode="normals", ao_samples
     mode: "normals", "ao" (ambient occlusion, ao_samples rays of ao_distance times the scene diagonal) or "heatmap"
     (traversal cost per pixel with its legend). camera defaults to Camera.framing(accel.scene).
     """
+    if not accel.built:
+        raise ValueError(f"accelerator '{accel.spec}' is not built: call build(scene) first")
     camera = camera or Camera.framing(accel.scene)
     return accel._render(*camera._args(), int(width), int(height), str(mode), int(ao_samples), float(ao_distance),
                          int(seed))

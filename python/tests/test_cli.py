@@ -53,3 +53,8 @@ def test_mesh_file_equals_the_cli(cli, tmp_path):
     expected = (tmp_path / "out.hits").read_bytes()
     assert rayaccel.build(scene).intersect(rays).tobytes() == expected
     assert rayaccel.build(rayaccel.load(path)).intersect(rays).tobytes() == expected
+
+
+def test_specs_equal_the_cli_list(cli):
+    run = subprocess.run([cli, "list", "--names"], capture_output=True, text=True, timeout=60, check=True)
+    assert rayaccel.specs() == run.stdout.split()

@@ -85,6 +85,8 @@ def test_unbuilt_structure():
         accel.validate()
     with pytest.raises(ValueError, match="not built"):
         accel.memory_bytes
+    with pytest.raises(ValueError, match="not built"):
+        rayaccel.render(accel, width=8, height=8)
 
 
 @pytest.mark.parametrize("args, kwargs, error, message", [
