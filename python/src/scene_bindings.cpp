@@ -25,7 +25,7 @@ std::vector<Vec3> convert_vertices(const py::array& array, bool allow_nonfinite)
     vertices[i] = {static_cast<float>(data[3 * i]), static_cast<float>(data[3 * i + 1]),
                    static_cast<float>(data[3 * i + 2])};
     if (!allow_nonfinite && !is_finite(vertices[i])) {
-      throw ValueError("vertices[" + std::to_string(i) + "] is not finite (NaN or infinite); pass " +
+      throw ValueError("vertices[" + std::to_string(i) + "] is not finite in float32 (NaN, infinite or too large); pass " +
                        "allow_nonfinite=True to keep such triangles (they are never hit)");
     }
   }
