@@ -53,15 +53,13 @@ def python_trace(scene, rays, accel_spec, threads, repeat):
             "parts": lambda: accel.intersect(rays[:, 0:3], rays[:, 4:7], t_min=rays[:, 3], t_max=rays[:, 7]),
         }
         hits = accel.intersect(rays)
-        medians = {}
-        for name, call in forms.items():
-            times = []
-            for _ in range(repeat):
+        times = {name: [] for name in forms}
+        for _ in range(repeat):  # the forms interleaved, so a slow spell of the machine hits them all alike
+            for name, call in forms.items():
                 start = time.perf_counter()
                 call()
-                times.append((time.perf_counter() - start) * 1e3)
-            medians[name] = statistics.median(times)
-    return medians, hits
+                times[name].append((time.perf_counter() - start) * 1e3)
+    return {name: statistics.median(t) for name, t in times.items()}, hits
 
 
 def main():

@@ -99,12 +99,15 @@ class PyAccelerator {
       py::gil_scoped_release release;
       std::shared_lock lock(mutex_);
       const Accelerator& accel = require_built();
-      if (check) check_rays(rays);
-      if (packets) {
-        accel.intersect_packets(rays, hits);
-      } else {
-        accel.intersect(rays, hits, stats);
-      }
+      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
+        const auto block = rays.subspan(begin, end - begin);
+        if (packets) {
+          accel.intersect_packets(block, hits.subspan(begin, end - begin));
+        } else {
+          accel.intersect(block, hits.subspan(begin, end - begin),
+                          stats.empty() ? stats : stats.subspan(begin, end - begin));
+        }
+      });
     }
     return py::make_tuple(records, stats_array);
   }
@@ -128,8 +131,10 @@ class PyAccelerator {
       py::gil_scoped_release release;
       std::shared_lock lock(mutex_);
       const Accelerator& accel = require_built();
-      if (check) check_rays(rays);
-      accel.occluded(rays, out, stats);
+      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
+        accel.occluded(rays.subspan(begin, end - begin), out.subspan(begin, end - begin),
+                       stats.empty() ? stats : stats.subspan(begin, end - begin));
+      });
     }
     return py::make_tuple(answers, stats_array);
   }

@@ -1,10 +1,14 @@
 // Array checks and conversions for the bindings (see arrays.h).
 #include "arrays.h"
 
+#include <emmintrin.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -56,30 +60,36 @@ const char* ray_problem(const Ray& r) {
   return nullptr;
 }
 
-/// ray_problem(r) == nullptr, without branches, so a block of rays is checked at memory speed: each of the eight
-/// floats must be finite, except t_min and t_max, which need only not be NaN.
-bool ray_is_acceptable(const float* f) {
-  constexpr float kMax = std::numeric_limits<float>::max();
-  bool ok = true;
-  for (int k = 0; k < 8; ++k) {
-    const bool t_bound = k == 3 || k == 7;
-    ok &= (std::fabs(f[k]) <= kMax) | (t_bound & (f[k] == f[k]));
-  }
-  return ok & ((f[4] != 0.0f) | (f[5] != 0.0f) | (f[6] != 0.0f));
-}
-
 }  // namespace
+
+bool rays_acceptable(std::span<const Ray> rays) {
+  // ray_problem(r) == nullptr for every ray, in SSE2 without a branch per ray: |x| <= FLT_MAX for the six origin
+  // and direction components (false for NaN and infinities), |t| <= inf for t_min and t_max (false only for NaN),
+  // and some direction component != 0.
+  constexpr float kMax = std::numeric_limits<float>::max();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 limit = _mm_setr_ps(kMax, kMax, kMax, kInf);  // ox oy oz tmin, and dx dy dz tmax
+  const __m128 zero = _mm_setzero_ps();
+  __m128 finite = _mm_cmpeq_ps(zero, zero);
+  int direction_nonzero = 1;
+  const float* f = reinterpret_cast<const float*>(rays.data());
+  for (std::size_t i = 0; i < rays.size(); ++i, f += 8) {
+    const __m128 origin_tmin = _mm_loadu_ps(f);
+    const __m128 direction_tmax = _mm_loadu_ps(f + 4);
+    finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_and_ps(origin_tmin, abs_mask), limit));
+    finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_and_ps(direction_tmax, abs_mask), limit));
+    direction_nonzero &= (_mm_movemask_ps(_mm_cmpneq_ps(direction_tmax, zero)) & 7) != 0;
+  }
+  return _mm_movemask_ps(finite) == 0xF && direction_nonzero != 0;
+}
 
 void check_rays(std::span<const Ray> rays) {
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-  const float* floats = reinterpret_cast<const float*>(rays.data());
   const std::size_t first_bad = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, rays.size(), 1 << 14), kNone,
       [&](const tbb::blocked_range<std::size_t>& range, std::size_t found) {
-        if (found < range.begin()) return found;
-        bool all_ok = true;
-        for (std::size_t i = range.begin(); i < range.end(); ++i) all_ok &= ray_is_acceptable(floats + 8 * i);
-        if (all_ok) return found;
+        if (found < range.begin() || rays_acceptable(rays.subspan(range.begin(), range.size()))) return found;
         for (std::size_t i = range.begin(); i < range.end(); ++i) {
           if (ray_problem(rays[i]) != nullptr) return std::min(found, i);
         }
@@ -90,6 +100,31 @@ void check_rays(std::span<const Ray> rays) {
     throw ValueError("ray " + std::to_string(first_bad) + " has " + ray_problem(rays[first_bad]) +
                      " (pass check=False to trace such rays as misses, as the C++ library does)");
   }
+}
+
+void trace_checked(std::span<const Ray> rays, bool check, const std::function<void(std::size_t, std::size_t)>& trace) {
+  if (!check) {
+    trace(0, rays.size());
+    return;
+  }
+  std::atomic<bool> failed{false};
+  tbb::task_group_context context(tbb::task_group_context::bound,
+                                  tbb::task_group_context::default_traits | tbb::task_group_context::fp_settings);
+  const std::size_t blocks = (rays.size() + kCheckBlock - 1) / kCheckBlock;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, blocks, 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t b = range.begin(); b < range.end() && !failed.load(std::memory_order_relaxed); ++b) {
+          const std::size_t begin = b * kCheckBlock, end = std::min(begin + kCheckBlock, rays.size());
+          if (!rays_acceptable(rays.subspan(begin, end - begin))) {
+            failed = true;
+            return;
+          }
+          trace(begin, end);
+        }
+      },
+      context);
+  if (failed) check_rays(rays);
 }
 
 }  // namespace rayaccel::python

@@ -5,7 +5,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 
@@ -37,8 +39,16 @@ FloatRows float_rows(const py::handle& object, py::ssize_t columns, const char* 
 
 /// Rays of an (N, 8) float32 C-contiguous array in the .rays layout, viewed in place.
 std::span<const Ray> ray_view(const FloatRows& rays);
-/// Throws ValueError naming the first ray (and field) with a non-finite origin or direction, a zero direction or a
-/// NaN t bound. Parallel; call without the GIL.
+/// False when a ray has a non-finite origin or direction, a zero direction or a NaN t bound (rays the library would
+/// trace as misses). No branch per ray: a block is checked at the speed of reading it.
+bool rays_acceptable(std::span<const Ray> rays);
+/// Throws ValueError naming the first such ray and what is wrong with it. Parallel; call without the GIL.
 void check_rays(std::span<const Ray> rays);
+/// Runs trace(begin, end) over [0, rays.size()): with `check`, in parallel blocks of kCheckBlock rays (a multiple of
+/// the packet size), each checked just before it is traced, while it is in cache, and check_rays() when one fails
+/// (the other blocks' results are then unspecified); without, as one call. Blocks run in the caller's
+/// floating-point environment, as the library's batches do. Call without the GIL.
+void trace_checked(std::span<const Ray> rays, bool check, const std::function<void(std::size_t, std::size_t)>& trace);
+inline constexpr std::size_t kCheckBlock = 4096;
 
 }  // namespace rayaccel::python

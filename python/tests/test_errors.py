@@ -149,3 +149,14 @@ def test_bad_camera_and_render(accel):
 def test_bad_thread_count():
     with pytest.raises(ValueError, match="threads must be >= 0"):
         rayaccel.set_threads(-1)
+
+
+def test_first_bad_ray_of_a_large_batch(accel):
+    rays = np.repeat(RAY, 20000, axis=0)
+    rays[[12345, 19999], 4] = np.nan  # in later blocks of the checked batch, which run in parallel
+    for query in (accel.intersect, accel.occluded):
+        with pytest.raises(ValueError, match="ray 12345 has a NaN or infinite direction"):
+            query(rays)
+    with pytest.raises(ValueError, match="ray 12345"):
+        accel.intersect(rays, packets=True)
+    assert int(accel.intersect(rays, check=False).hit.sum()) == 19998
