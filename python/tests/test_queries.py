@@ -164,3 +164,11 @@ def test_out_reuses_the_records(soup):
         accel.intersect(rays[:10], out=first)
     with pytest.raises(TypeError, match="out must be the Hits"):
         accel.intersect(rays, out=np.zeros((300, 16), np.uint8))
+
+
+def test_empty_batches_and_single_rays(triangle):
+    assert triangle.intersect(np.zeros((0, 8), np.float32)).t.shape == (0,)
+    assert triangle.occluded(np.zeros((0, 3)), np.zeros((0, 3))).shape == (0,)
+    one = triangle.intersect(np.array([0.2, 0.2, 1, 0, 0, 0, -1, np.inf], np.float32), points=True, stats=True)
+    assert one.t.shape == () and one.t == 1.0 and one.points.shape == (3,) and one.stats.cost.shape == ()
+    assert triangle.occluded(np.array([0.2, 0.2, 1.0]), np.array([0, 0, -1.0])) == np.True_
