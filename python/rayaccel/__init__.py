@@ -14,13 +14,13 @@ import os
 import numpy as np
 
 from . import _core
-from ._core import Scene, __version__, set_threads, specs, threads
+from ._core import Scene, __version__, packet_tile_order, set_threads, specs, threads
 from ._rays import HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
 __all__ = ["Accelerator", "Camera", "HIT_DTYPE", "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build",
-           "builtin", "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "render", "shadow_rays",
-           "set_threads", "specs", "spheres", "structures", "thread_limit", "threads"]
+           "builtin", "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "packet_tile_order", "render",
+           "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads"]
 
 
 def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False):
@@ -98,7 +98,7 @@ class Accelerator(_core._Accelerator):
                   stats=False, packets=False, check=True, out=None):
         """Closest hits as Hits (t, prim_id, u, v shaped like the rays; points and normals, per-ray statistics on
         request). packets=True traces each run of eight rays as one packet (intersect_packets(): for coherent rays,
-        such as camera rays in 4 x 2 pixel tiles; same closest hits, no statistics). out: the Hits of an earlier
+        such as camera rays in 4 x 2 pixel tiles, see packet_tile_order(); same closest hits, no statistics). out: the Hits of an earlier
         call with as many rays, overwritten instead of allocating new records (for loops over same-sized batches)."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
         if out is not None:

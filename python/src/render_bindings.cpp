@@ -3,6 +3,7 @@
 // heat-map colour ramp, all returning numpy arrays.
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <optional>
@@ -137,6 +138,15 @@ void bind_render(py::module_& m) {
   m.def("_secondary_rays", &secondary_rays, py::arg("scene"), py::arg("rays"), py::arg("records"), py::arg("kind"),
         py::arg("max_distance"), py::arg("seed"));
   m.def("_heat_colours", &heat_colours, py::arg("t"));
+  m.def("packet_tile_order", [](int width, int height) {
+    check_size(width, height);
+    const std::vector<std::size_t> order = packet_tile_order(width, height);
+    py::array_t<std::int64_t> out(static_cast<py::ssize_t>(order.size()));
+    std::copy(order.begin(), order.end(), out.mutable_data());
+    return out;
+  }, py::arg("width"), py::arg("height"),
+        "Indices into a width x height image's rays (row-major) such that each run of eight is a 4 x 2 pixel tile: "
+        "the order in which intersect(packets=True) traces camera rays fastest.");
 }
 
 }  // namespace rayaccel::python

@@ -172,3 +172,12 @@ def test_empty_batches_and_single_rays(triangle):
     one = triangle.intersect(np.array([0.2, 0.2, 1, 0, 0, 0, -1, np.inf], np.float32), points=True, stats=True)
     assert one.t.shape == () and one.t == 1.0 and one.points.shape == (3,) and one.stats.cost.shape == ()
     assert triangle.occluded(np.array([0.2, 0.2, 1.0]), np.array([0, 0, -1.0])) == np.True_
+
+
+def test_packets_in_tile_order(soup):
+    accel = rayaccel.build(soup, "bvh_wide")
+    rays = rayaccel.Camera.framing(soup).rays(30, 21).reshape(-1, 8)
+    order = rayaccel.packet_tile_order(30, 21)
+    assert sorted(order) == list(range(30 * 21))
+    tiled = accel.intersect(rays[order], packets=True)
+    np.testing.assert_array_equal(tiled.t, accel.intersect(rays).t[order])
