@@ -50,17 +50,32 @@ class PyAccelerator {
     scene_ = std::move(scene);
   }
 
-  bool built() const { return scene_ != nullptr; }
+  // Accessors run with the GIL held; they wait for a build running in another thread (which needs no GIL until
+  // it ends), never the other way round.
+  bool built() const {
+    std::shared_lock lock(mutex_);
+    return scene_ != nullptr;
+  }
   const std::string& spec() const { return accel_->spec(); }
-  std::shared_ptr<Scene> scene() const { return scene_; }
-  double build_ms() const { return build_ms_; }
-  std::size_t memory_bytes() const { return require_built().memory_bytes(); }
+  std::shared_ptr<Scene> scene() const {
+    std::shared_lock lock(mutex_);
+    return scene_;
+  }
+  double build_ms() const {
+    std::shared_lock lock(mutex_);
+    return build_ms_;
+  }
+  std::size_t memory_bytes() const {
+    std::shared_lock lock(mutex_);
+    return require_built().memory_bytes();
+  }
   std::vector<std::string> validate() const {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
     return require_built().validate();
   }
   py::dict build_statistics() const {
+    std::shared_lock lock(mutex_);
     py::dict out;
     for (const auto& s : require_built().build_statistics()) out[py::str(s.name)] = s.value;
     return out;

@@ -181,3 +181,26 @@ def test_packets_in_tile_order(soup):
     assert sorted(order) == list(range(30 * 21))
     tiled = accel.intersect(rays[order], packets=True)
     np.testing.assert_array_equal(tiled.t, accel.intersect(rays).t[order])
+
+
+def test_queries_while_another_thread_rebuilds(soup):
+    accel = rayaccel.build(soup, "bvh_wide")
+    rays = random_rays(soup, 5000)
+    expected = accel.intersect(rays).tobytes()
+    other = rayaccel.builtin("sphere", level=2)
+    errors = []
+
+    def rebuild():
+        try:
+            for scene in (other, soup) * 3:
+                accel.build(scene)
+        except Exception as error:  # noqa: BLE001 - reported below
+            errors.append(error)
+
+    worker = threading.Thread(target=rebuild)
+    worker.start()
+    while worker.is_alive():  # each query runs under one build or the next, never during one
+        hits = accel.intersect(rays)
+        assert hits.t.shape == (5000,) and accel.scene.name in ("sphere", "soup")
+    worker.join()
+    assert not errors and accel.scene is soup and accel.intersect(rays).tobytes() == expected
