@@ -6,6 +6,7 @@ packages=(
   libtbb-dev libassimp-dev libstb-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev libembree-dev libgmp-dev
   python3 python3-numpy
+  python3-dev pybind11-dev python3-pytest python3-matplotlib python3-pip python3-setuptools python3-wheel
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,184 @@
+// Scenes for Python: triangle meshes from numpy arrays (checked, converted once), mesh files and built-in scenes
+// through load_scene(), and spheres. The C++ Scene owns its arrays, so input arrays are copied once into it.
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "rayaccel/scene/builtin_scenes.h"
+#include "rayaccel/scene/import.h"
+
+namespace rayaccel::python {
+
+namespace {
+
+template <class Real>
+std::vector<Vec3> convert_vertices(const py::array& array, bool allow_nonfinite) {
+  const auto rows = py::array_t<Real, py::array::c_style>::ensure(array);  // no copy when already C-contiguous
+  if (!rows) throw py::error_already_set();
+  const Real* data = rows.data();
+  std::vector<Vec3> vertices(static_cast<std::size_t>(rows.shape(0)));
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    vertices[i] = {static_cast<float>(data[3 * i]), static_cast<float>(data[3 * i + 1]),
+                   static_cast<float>(data[3 * i + 2])};
+    if (!allow_nonfinite && !is_finite(vertices[i])) {
+      throw ValueError("vertices[" + std::to_string(i) + "] is not finite in float32 (NaN, infinite or too large); pass " +
+                       "allow_nonfinite=True to keep such triangles (they are never hit)");
+    }
+  }
+  return vertices;
+}
+
+/// Converts (N, 3) float32/float64 vertices into the scene's own array in one pass.
+std::vector<Vec3> read_vertices(const py::handle& object, bool allow_nonfinite) {
+  if (!py::isinstance<py::array>(object)) throw TypeError("vertices must be a numpy array");
+  const auto array = py::reinterpret_borrow<py::array>(object);
+  if (array.ndim() != 2 || array.shape(1) != 3) {
+    throw ValueError("vertices must have shape (N, 3), not " + shape_text(array));
+  }
+  if (array.dtype().equal(py::dtype::of<float>())) return convert_vertices<float>(array, allow_nonfinite);
+  if (array.dtype().equal(py::dtype::of<double>())) return convert_vertices<double>(array, allow_nonfinite);
+  throw TypeError("vertices must be float32 or float64, not " + dtype_name(array));
+}
+
+template <class Index>
+void copy_triangles(const py::array& array, std::size_t vertex_count,
+                    std::vector<std::array<std::uint32_t, 3>>& out) {
+  const auto rows = py::array_t<Index, py::array::c_style>::ensure(array);
+  if (!rows) throw py::error_already_set();
+  const Index* data = rows.data();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const Index index = data[3 * i + k];
+      if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count) {
+        throw ValueError("triangles[" + std::to_string(i) + ", " + std::to_string(k) + "] = " +
+                         std::to_string(index) + " is out of range: there are " + std::to_string(vertex_count) +
+                         " vertices");
+      }
+      out[i][k] = static_cast<std::uint32_t>(index);
+    }
+  }
+}
+
+/// Converts (M, 3) int32/uint32/int64 triangles, checking every index against the vertex count.
+std::vector<std::array<std::uint32_t, 3>> read_triangles(const py::handle& object, std::size_t vertex_count) {
+  if (!py::isinstance<py::array>(object)) throw TypeError("triangles must be a numpy array");
+  const auto array = py::reinterpret_borrow<py::array>(object);
+  if (array.ndim() != 2 || array.shape(1) != 3) {
+    throw ValueError("triangles must have shape (M, 3), not " + shape_text(array));
+  }
+  std::vector<std::array<std::uint32_t, 3>> triangles(static_cast<std::size_t>(array.shape(0)));
+  if (array.dtype().equal(py::dtype::of<std::int32_t>())) {
+    copy_triangles<std::int32_t>(array, vertex_count, triangles);
+  } else if (array.dtype().equal(py::dtype::of<std::uint32_t>())) {
+    copy_triangles<std::uint32_t>(array, vertex_count, triangles);
+  } else if (array.dtype().equal(py::dtype::of<std::int64_t>())) {
+    copy_triangles<std::int64_t>(array, vertex_count, triangles);
+  } else {
+    throw TypeError("triangles must be int32, uint32 or int64, not " + dtype_name(array));
+  }
+  return triangles;
+}
+
+std::shared_ptr<Scene> mesh_scene(const py::handle& vertices, const py::handle& triangles, std::string name,
+                                  bool allow_nonfinite) {
+  TriangleMesh mesh;
+  mesh.vertices = read_vertices(vertices, allow_nonfinite);
+  mesh.triangles = read_triangles(triangles, mesh.vertices.size());
+  if (mesh.vertices.size() > std::numeric_limits<std::uint32_t>::max()) throw ValueError("too many vertices");
+  py::gil_scoped_release release;
+  return std::make_shared<Scene>(Scene::from_mesh(std::move(mesh), std::move(name)));
+}
+
+std::shared_ptr<Scene> sphere_scene(const py::handle& centers, const py::handle& radii, std::string name) {
+  const auto rows = float_rows(centers, 3, "centers");
+  const auto count = static_cast<std::size_t>(rows.shape(0));
+  std::vector<Sphere> spheres(count);
+  // radii: one float for every sphere, or an (N,) float array.
+  if (py::isinstance<py::array>(radii)) {
+    const auto array = py::reinterpret_borrow<py::array>(radii);
+    if (!array.dtype().equal(py::dtype::of<float>()) && !array.dtype().equal(py::dtype::of<double>())) {
+      throw TypeError("radii must be float32 or float64, not " + dtype_name(array));
+    }
+    if (array.ndim() != 1 || static_cast<std::size_t>(array.shape(0)) != count) {
+      throw ValueError("radii must have shape (" + std::to_string(count) + ",) to match centers, not " +
+                       shape_text(array));
+    }
+    const auto values = FloatRows::ensure(array);
+    if (!values) throw py::error_already_set();
+    for (std::size_t i = 0; i < count; ++i) spheres[i].radius = values.data()[i];
+  } else {
+    const float radius = radii.cast<float>();
+    for (auto& s : spheres) s.radius = radius;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const float* c = rows.data() + 3 * i;
+    spheres[i].center = {c[0], c[1], c[2]};
+    if (!is_finite(spheres[i].center)) throw ValueError("centers[" + std::to_string(i) + "] is not finite");
+    if (!(spheres[i].radius > 0.0f) || !std::isfinite(spheres[i].radius)) {
+      throw ValueError("radius of sphere " + std::to_string(i) + " is " + std::to_string(spheres[i].radius) +
+                       ": radii must be finite and > 0");
+    }
+  }
+  py::gil_scoped_release release;
+  return std::make_shared<Scene>(Scene::from_spheres(std::move(spheres), std::move(name)));
+}
+
+std::shared_ptr<Scene> load(const std::string& spec) {
+  if (spec.rfind("builtin:", 0) != 0) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(spec, ec)) {
+      throw FileNotFound("scene file '" + spec + "' does not exist (or is not a file)");
+    }
+  }
+  py::gil_scoped_release release;
+  return std::make_shared<Scene>(load_scene(spec));
+}
+
+py::array_t<float> bounds_array(const Scene& scene) {
+  py::array_t<float> out({2, 3});
+  const AABB& b = scene.bounds();
+  for (int a = 0; a < 3; ++a) {
+    out.mutable_at(0, a) = b.is_empty() ? std::numeric_limits<float>::quiet_NaN() : b.lo[a];
+    out.mutable_at(1, a) = b.is_empty() ? std::numeric_limits<float>::quiet_NaN() : b.hi[a];
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", py::dynamic_attr(), "Primitives to build structures over (see rayaccel.mesh, "
+                                                        "rayaccel.load, rayaccel.spheres). Immutable from Python.")
+      .def_property_readonly("name", &Scene::name)
+      .def_property_readonly("kind", [](const Scene& s) { return std::string(to_string(s.kind())); })
+      .def_property_readonly("primitive_count", &Scene::primitive_count)
+      .def_property_readonly("valid_count", &Scene::valid_count)
+      .def_property_readonly("invalid_count", &Scene::invalid_count)
+      .def_property_readonly("degenerate_count", &Scene::degenerate_count)
+      .def_property_readonly("memory_bytes", &Scene::memory_bytes)
+      .def_property_readonly("bounds", &bounds_array, "(2, 3) float32: min and max corner (NaN when empty)")
+      .def("__len__", [](const Scene& s) { return s.primitive_count(); })
+      .def("__repr__", [](const Scene& s) {
+        return "<rayaccel.Scene '" + s.name() + "': " + std::to_string(s.primitive_count()) + " " +
+               to_string(s.kind()) + ">";
+      });
+
+  m.def("_mesh", &mesh_scene, py::arg("vertices"), py::arg("triangles"), py::arg("name"),
+        py::arg("allow_nonfinite"));
+  m.def("_spheres", &sphere_scene, py::arg("centers"), py::arg("radii"), py::arg("name"));
+  m.def("_load", &load, py::arg("spec"));
+  m.def("_builtin_scenes", [] {
+    py::list out;
+    for (const auto& info : builtin_scenes()) {
+      out.append(py::dict(py::arg("name") = info.name, py::arg("description") = info.description,
+                          py::arg("defaults") = info.defaults));
+    }
+    return out;
+  });
+}
+
+}  // namespace rayaccel::python
