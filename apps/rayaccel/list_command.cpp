@@ -13,16 +13,6 @@ namespace rayaccel::cli {
 
 namespace {
 
-const char* type_name(OptionType type) {
-  switch (type) {
-    case OptionType::choice: return "choice";
-    case OptionType::integer: return "integer";
-    case OptionType::real: return "real";
-    case OptionType::boolean: return "boolean";
-  }
-  return "?";
-}
-
 std::string joined(const std::vector<std::string>& items, const char* separator) {
   std::string out;
   for (const auto& item : items) out += (out.empty() ? "" : separator) + item;
@@ -42,7 +32,7 @@ void print_structures() {
       std::size_t key_width = 0;
       for (const auto& option : info.options) key_width = std::max(key_width, option.key.size());
       for (const auto& option : info.options) {
-        std::string detail = fmt::format("{:<7}  default {}", type_name(option.type), option.default_value);
+        std::string detail = fmt::format("{:<7}  default {}", to_string(option.type), option.default_value);
         if (!option.choices.empty()) detail += "  choices: " + joined(option.choices, "|");
         fmt::print("      {:<{}}  {}  {}\n", option.key, key_width, detail, option.description);
       }

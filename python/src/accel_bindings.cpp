@@ -23,14 +23,13 @@ namespace rayaccel::python {
 
 namespace {
 
-const char* type_name(OptionType type) {
-  switch (type) {
-    case OptionType::choice: return "choice";
-    case OptionType::integer: return "integer";
-    case OptionType::real: return "real";
-    case OptionType::boolean: return "boolean";
-  }
-  return "?";
+/// A zeroed (n, 2) uint64 array of per-ray traversal statistics (stored in `array`) and the records it holds (the
+/// traversal adds to them).
+std::span<TraversalStats> statistics_array(std::size_t n, py::object& array) {
+  py::array_t<std::uint64_t> s({static_cast<py::ssize_t>(n), py::ssize_t{2}});
+  std::fill_n(s.mutable_data(), s.size(), std::uint64_t{0});
+  array = s;
+  return {reinterpret_cast<TraversalStats*>(s.mutable_data()), n};
 }
 
 /// One structure, built over one scene that it keeps alive. Queries take a shared lock and build() an exclusive
@@ -102,13 +101,8 @@ class PyAccelerator {
       records = py::reinterpret_borrow<py::array_t<std::uint8_t>>(out);
     }
     py::object stats_array = py::none();
-    std::span<TraversalStats> stats;
-    if (with_stats) {
-      py::array_t<std::uint64_t> s({static_cast<py::ssize_t>(rays.size()), py::ssize_t{2}});
-      std::fill_n(s.mutable_data(), s.size(), std::uint64_t{0});  // the traversal adds to its record
-      stats = {reinterpret_cast<TraversalStats*>(s.mutable_data()), rays.size()};
-      stats_array = s;
-    }
+    const std::span<TraversalStats> stats =
+        with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
     const std::span<Hit> hits(reinterpret_cast<Hit*>(records.mutable_data()), rays.size());
     {
       py::gil_scoped_release release;
@@ -133,13 +127,8 @@ class PyAccelerator {
     const std::span<const Ray> rays = ray_view(rays_array);
     py::array_t<bool> answers(static_cast<py::ssize_t>(rays.size()));
     py::object stats_array = py::none();
-    std::span<TraversalStats> stats;
-    if (with_stats) {
-      py::array_t<std::uint64_t> s({static_cast<py::ssize_t>(rays.size()), py::ssize_t{2}});
-      std::fill_n(s.mutable_data(), s.size(), std::uint64_t{0});  // the traversal adds to its record
-      stats = {reinterpret_cast<TraversalStats*>(s.mutable_data()), rays.size()};
-      stats_array = s;
-    }
+    const std::span<TraversalStats> stats =
+        with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
     static_assert(sizeof(bool) == 1);
     const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), rays.size());
     {
@@ -219,7 +208,7 @@ py::list structures() {
   for (const auto& info : accelerator_registry()) {
     py::list options;
     for (const auto& o : info.options) {
-      options.append(py::dict(py::arg("key") = o.key, py::arg("type") = type_name(o.type),
+      options.append(py::dict(py::arg("key") = o.key, py::arg("type") = to_string(o.type),
                               py::arg("default") = o.default_value, py::arg("description") = o.description,
                               py::arg("choices") = o.choices));
     }

@@ -48,6 +48,16 @@ bool parse_real(const std::string& v, double& out) {
 
 }  // namespace
 
+const char* to_string(OptionType type) {
+  switch (type) {
+    case OptionType::choice: return "choice";
+    case OptionType::integer: return "integer";
+    case OptionType::real: return "real";
+    case OptionType::boolean: return "boolean";
+  }
+  return "?";
+}
+
 const std::string& Options::get(const std::string& key) const {
   auto it = values_.find(key);
   if (it == values_.end()) throw Error("option '" + key + "' is not defined for this structure");

@@ -14,6 +14,8 @@
 namespace rayaccel {
 
 enum class OptionType { choice, integer, real, boolean };
+/// "choice", "integer", "real" or "boolean".
+const char* to_string(OptionType type);
 
 struct OptionSpec {
   std::string key;
