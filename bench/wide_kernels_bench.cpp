@@ -148,7 +148,7 @@ std::vector<Ray> make_coherent_rays() {
 
 __attribute__((target("avx2"), flatten)) int triangle_rays_pass(const Ray* rays,
                                                                  const std::vector<Triangle4>& blocks) {
-  alignas(32) float lane[7][8];
+  alignas(32) float lane[9][8];
   const PreparedRay first(rays[0]);
   const int axes[3] = {first.kx, first.ky, first.kz};
   Hit hits[8];
@@ -159,6 +159,8 @@ __attribute__((target("avx2"), flatten)) int triangle_rays_pass(const Ray* rays,
     lane[4][i] = r.shear_y;
     lane[5][i] = r.shear_z;
     lane[6][i] = r.t_min;
+    lane[7][i] = shear_error(r.shear_x);
+    lane[8][i] = shear_error(r.shear_y);
     hits[i] = Hit::begin(r);
   }
   TrianglePacket<Avx8> p;
@@ -167,6 +169,8 @@ __attribute__((target("avx2"), flatten)) int triangle_rays_pass(const Ray* rays,
   p.shear_y = Avx8::load(lane[4]);
   p.shear_z = Avx8::load(lane[5]);
   p.t_min = Avx8::load(lane[6]);
+  p.shear_error_x = Avx8::load(lane[7]);
+  p.shear_error_y = Avx8::load(lane[8]);
   alignas(32) float far[8];
   for (int i = 0; i < 8; ++i) far[i] = hits[i].t;
   __m256 t_far = Avx8::load(far);

@@ -112,6 +112,8 @@ struct PacketLanes {
     triangle.shear_x = S::div(direction[axes[0]], dz);
     triangle.shear_y = S::div(direction[axes[1]], dz);
     triangle.shear_z = S::div(one, dz);
+    triangle.shear_error_x = S::mul(S::set1(float_gamma(5)), S::and_not(sign_bit, triangle.shear_x));
+    triangle.shear_error_y = S::mul(S::set1(float_gamma(5)), S::and_not(sign_bit, triangle.shear_y));
     triangle.t_min = t_min;
     fast = true;
   }

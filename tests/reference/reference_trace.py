@@ -196,8 +196,8 @@ def trace_ray(mesh, ray):
     max_z = np.maximum(np.abs(pz[0]), np.maximum(np.abs(pz[1]), np.abs(pz[2])))
     lo_z = np.minimum(pz[0], np.minimum(pz[1], pz[2]))
     hi_z = np.maximum(pz[0], np.maximum(pz[1], pz[2]))
-    dx = gamma(3) * max_x + gamma(5) * (np.abs(sx) * max_z)
-    dy = gamma(3) * max_y + gamma(5) * (np.abs(sy) * max_z)
+    dx = gamma(3) * max_x + (gamma(5) * np.abs(sx)) * max_z
+    dy = gamma(3) * max_y + (gamma(5) * np.abs(sy)) * max_z
     edge_error = ((F32(2) * gamma(2)) * max_x * max_y + F32(2) * ((dx * max_y + dy * max_x) + dx * dy)) * SLACK
     edge_error = edge_error + EDGE_FLOOR
     lo_e = np.minimum(eu, np.minimum(ev, ew))

@@ -60,6 +60,9 @@ inline bool in_safe_range(const ShearedTriangle& s) {
   return m <= kShearSafeMax && m >= kShearSafeMin;
 }
 
+/// The factor of max|z| in the error bound of a sheared coordinate: gamma(5) |shear| (see TriangleErrorBounds).
+inline float shear_error(float shear) { return float_gamma(5) * std::fabs(shear); }
+
 /// Constants of the error bounds (float_gamma(n): the relative bound of n roundings).
 struct WatertightBounds {
   /// Multiplies a bound computed in float to cover the rounding of its own few operations.
@@ -92,8 +95,8 @@ struct TriangleErrorBounds {
     // A sheared coordinate x = a_x - s_x a_z against the exact X of the float ray (the shear s_x = d_x / d_z rounded,
     // |s_x| <= 1): |x - X| <= gamma(3) max|x| + gamma(5) |s_x| max|z|. Then for an edge function,
     // |e - E| <= 2 gamma(2) max|x| max|y| + 2 (dx max|y| + dy max|x| + dx dy).
-    const float dx = (float_gamma(3) * max_x + float_gamma(5) * (std::fabs(r.shear_x) * max_z)) + underflow;
-    const float dy = (float_gamma(3) * max_y + float_gamma(5) * (std::fabs(r.shear_y) * max_z)) + underflow;
+    const float dx = (float_gamma(3) * max_x + shear_error(r.shear_x) * max_z) + underflow;
+    const float dy = (float_gamma(3) * max_y + shear_error(r.shear_y) * max_z) + underflow;
     edge_error = (2.0f * float_gamma(2) * max_x * max_y + 2.0f * ((dx * max_y + dy * max_x) + dx * dy)) *
                      WatertightBounds::kSlack +
                  WatertightBounds::kEdgeFloor;

@@ -199,6 +199,7 @@ template <class S>
 struct TrianglePacket {
   typename S::F origin_k[3];
   typename S::F shear_x, shear_y, shear_z, t_min;
+  typename S::F shear_error_x, shear_error_y;  ///< shear_error() of shear_x, shear_y: the edge error bound's factors
   TrianglePacket() = default;  ///< for a packet of rays, one per lane (the packet traversal fills the lanes)
   explicit TrianglePacket(const PreparedRay& r)
       : origin_k{S::set1(component(r.origin, r.kx)), S::set1(component(r.origin, r.ky)),
@@ -206,7 +207,9 @@ struct TrianglePacket {
         shear_x(S::set1(r.shear_x)),
         shear_y(S::set1(r.shear_y)),
         shear_z(S::set1(r.shear_z)),
-        t_min(S::set1(r.t_min)) {}
+        t_min(S::set1(r.t_min)),
+        shear_error_x(S::set1(shear_error(r.shear_x))),
+        shear_error_y(S::set1(shear_error(r.shear_y))) {}
 };
 
 /// The float path of the watertight test in each of S's lanes, from the vertices relative to the ray origin and
@@ -224,8 +227,8 @@ struct WatertightLanes {
 
   /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
   /// functions or by `decided_miss`.
-  bool test(const F px[3], const F py[3], const F pz[3], const F& shear_x, const F& shear_y, const F& shear_z,
-            const F& t_min, const F& t_far, const F& decided_miss) {
+  bool test(const F px[3], const F py[3], const F pz[3], const F& shear_error_x, const F& shear_error_y,
+            const F& shear_z, const F& t_min, const F& t_far, const F& decided_miss) {
     // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
     const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
     ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));
@@ -240,9 +243,9 @@ struct WatertightLanes {
       max_y = S::max(S::and_not(sign_bit, py[v]), max_y);
       max_z = S::max(S::and_not(sign_bit, pz[v]), max_z);
     }
-    const F gamma3 = S::set1(float_gamma(3)), gamma5 = S::set1(float_gamma(5));
-    const F dx = S::add(S::mul(gamma3, max_x), S::mul(gamma5, S::mul(S::and_not(sign_bit, shear_x), max_z)));
-    const F dy = S::add(S::mul(gamma3, max_y), S::mul(gamma5, S::mul(S::and_not(sign_bit, shear_y), max_z)));
+    const F gamma3 = S::set1(float_gamma(3));
+    const F dx = S::add(S::mul(gamma3, max_x), S::mul(shear_error_x, max_z));
+    const F dy = S::add(S::mul(gamma3, max_y), S::mul(shear_error_y, max_z));
     const F edge_error = S::add(
         S::mul(S::add(S::mul(S::mul(S::set1(2.0f * float_gamma(2)), max_x), max_y),
                       S::mul(S::set1(2.0f), S::add(S::add(S::mul(dx, max_y), S::mul(dy, max_x)), S::mul(dx, dy)))),
@@ -320,7 +323,9 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
   WatertightLanes<S> lanes;
   const F t_far = S::set1(hit.t);
   const F padding = S::padding(blocks);
-  if (!lanes.test(px, py, pz, ray.shear_x, ray.shear_y, ray.shear_z, ray.t_min, t_far, padding)) return false;
+  if (!lanes.test(px, py, pz, ray.shear_error_x, ray.shear_error_y, ray.shear_z, ray.t_min, t_far, padding)) {
+    return false;
+  }
   bool updated = false;
   if (lanes.hits) {
     float t_lane[W], u_lane[W], v_lane[W];
@@ -370,7 +375,10 @@ inline int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* s
   }
   WatertightLanes<S> lanes;
   const F inactive = S::and_not(S::lanes_from_bits(rays), S::all_ones());
-  if (!lanes.test(px, py, pz, packet.shear_x, packet.shear_y, packet.shear_z, packet.t_min, t_far, inactive)) return 0;
+  if (!lanes.test(px, py, pz, packet.shear_error_x, packet.shear_error_y, packet.shear_z, packet.t_min, t_far,
+                  inactive)) {
+    return 0;
+  }
   const std::uint32_t prim_id = block.prim_id[i];
   int updated = 0;
   if (lanes.hits) {
