@@ -23,13 +23,18 @@ __all__ = ["Accelerator", "Camera", "HIT_DTYPE", "Hits", "MISS", "Scene", "Trave
            "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads"]
 
 
-def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False):
+def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False, copy=True):
     """A triangle scene from (N, 3) float32/float64 vertices and (M, 3) int32/uint32/int64 triangles.
 
     Every index is checked against N; a NaN or infinite vertex raises ValueError unless allow_nonfinite (then its
-    triangles are kept but never hit). Primitive id = row of triangles. The arrays are copied once (float64 is
-    rounded to float32), so they may be changed afterwards.
+    triangles are kept but never hit). Primitive id = row of triangles. By default the arrays are copied once
+    (float64 is rounded to float32), so they may be changed afterwards. With copy=False they are read in place, with
+    no copy: they must then be C-contiguous float32 vertices and int32/uint32 triangles (else ValueError), the scene
+    keeps a reference to both, and they must not change while it is used, except for vertex positions written in
+    place followed by scene.arrays_changed() and a rebuild.
     """
+    if not copy:
+        return _core._mesh_in_place(vertices, triangles, str(name), bool(allow_nonfinite))
     return _core._mesh(vertices, triangles, str(name), bool(allow_nonfinite))
 
 

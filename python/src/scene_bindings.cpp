@@ -93,6 +93,58 @@ std::shared_ptr<Scene> mesh_scene(const py::handle& vertices, const py::handle& 
   return std::make_shared<Scene>(Scene::from_mesh(std::move(mesh), std::move(name)));
 }
 
+/// A scene over the caller's arrays, read in place (Scene::from_buffers): float32 (N, 3) and int32/uint32 (M, 3),
+/// both C-contiguous. The scene holds a reference to both arrays (released under the GIL), so they live as long as it.
+std::shared_ptr<Scene> mesh_scene_in_place(const py::handle& vertices, const py::handle& triangles, std::string name,
+                                           bool allow_nonfinite) {
+  if (!py::isinstance<py::array>(vertices)) throw TypeError("vertices must be a numpy array");
+  if (!py::isinstance<py::array>(triangles)) throw TypeError("triangles must be a numpy array");
+  const auto v = py::reinterpret_borrow<py::array>(vertices);
+  const auto t = py::reinterpret_borrow<py::array>(triangles);
+  const bool v_ok = v.dtype().equal(py::dtype::of<float>()) && v.ndim() == 2 && v.shape(1) == 3 &&
+                    (v.flags() & py::array::c_style);
+  const bool t_ok =
+      (t.dtype().equal(py::dtype::of<std::int32_t>()) || t.dtype().equal(py::dtype::of<std::uint32_t>())) &&
+      t.ndim() == 2 && t.shape(1) == 3 && (t.flags() & py::array::c_style);
+  if (!v_ok || !t_ok) {
+    throw ValueError("copy=False reads the arrays in place and needs C-contiguous float32 (N, 3) vertices and "
+                     "int32/uint32 (M, 3) triangles, not " + dtype_name(v) + " " + shape_text(v) + " and " +
+                     dtype_name(t) + " " + shape_text(t));
+  }
+  const auto* xyz = static_cast<const float*>(v.data());
+  if (!allow_nonfinite) {
+    for (py::ssize_t i = 0; i < 3 * v.shape(0); ++i) {
+      if (!std::isfinite(xyz[i])) {
+        throw ValueError("vertices[" + std::to_string(i / 3) + "] is not finite (allow_nonfinite=True keeps it)");
+      }
+    }
+  }
+  if (t.dtype().equal(py::dtype::of<std::int32_t>())) {
+    const auto* index = static_cast<const std::int32_t*>(t.data());
+    for (py::ssize_t i = 0; i < 3 * t.shape(0); ++i) {
+      if (index[i] < 0) {
+        throw ValueError("triangles[" + std::to_string(i / 3) + ", " + std::to_string(i % 3) + "] = " +
+                         std::to_string(index[i]) + " is out of range: there are " + std::to_string(v.shape(0)) +
+                         " vertices");
+      }
+    }
+  }
+  MeshBuffers buffers;
+  buffers.vertices = xyz;
+  buffers.vertex_count = static_cast<std::size_t>(v.shape(0));
+  buffers.indices = t.data();  // nonnegative int32 indices read as uint32; from_buffers checks the upper end
+  buffers.triangle_count = static_cast<std::size_t>(t.shape(0));
+  buffers.index_type = IndexType::uint32;
+  auto* scene = new Scene(Scene::from_buffers(buffers, std::move(name)));
+  py::object keep_vertices = v, keep_triangles = t;
+  return std::shared_ptr<Scene>(scene, [keep_vertices, keep_triangles](Scene* s) mutable {
+    delete s;
+    py::gil_scoped_acquire gil;
+    keep_vertices = py::object();
+    keep_triangles = py::object();
+  });
+}
+
 std::shared_ptr<Scene> sphere_scene(const py::handle& centers, const py::handle& radii, std::string name) {
   const auto rows = float_rows(centers, 3, "centers");
   const auto count = static_cast<std::size_t>(rows.shape(0));
@@ -160,6 +212,10 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("invalid_count", &Scene::invalid_count)
       .def_property_readonly("degenerate_count", &Scene::degenerate_count)
       .def_property_readonly("memory_bytes", &Scene::memory_bytes)
+      .def_property_readonly("borrows_arrays", &Scene::borrows_buffers,
+                             "True for a scene made with mesh(..., copy=False), which reads the arrays in place")
+      .def("arrays_changed", &Scene::buffers_changed,
+           "After writing new vertex positions into the arrays of a copy=False scene: re-reads them (then rebuild)")
       .def_property_readonly("bounds", &bounds_array, "(2, 3) float32: min and max corner (NaN when empty)")
       .def("__len__", [](const Scene& s) { return s.primitive_count(); })
       .def("__repr__", [](const Scene& s) {
@@ -168,6 +224,8 @@ void bind_scene(py::module_& m) {
       });
 
   m.def("_mesh", &mesh_scene, py::arg("vertices"), py::arg("triangles"), py::arg("name"),
+        py::arg("allow_nonfinite"));
+  m.def("_mesh_in_place", &mesh_scene_in_place, py::arg("vertices"), py::arg("triangles"), py::arg("name"),
         py::arg("allow_nonfinite"));
   m.def("_spheres", &sphere_scene, py::arg("centers"), py::arg("radii"), py::arg("name"));
   m.def("_load", &load, py::arg("spec"));

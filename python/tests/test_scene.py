@@ -43,10 +43,39 @@ def test_mesh_copies_its_input_once():
     assert hits.prim_id[0] == 1 and hits.t[0] == 5.0
 
 
-@pytest.mark.skip(reason="the C++ Scene owns its arrays (TriangleMesh of std::vector), so a scene cannot share "
-                         "numpy's buffer yet; a non-owning Scene is being added to the library (issue #27 notes)")
 def test_mesh_zero_copy():
-    raise AssertionError("unreachable")
+    vertices = QUAD_V.astype(np.float32)
+    triangles = QUAD_T.astype(np.uint32)
+    scene = rayaccel.mesh(vertices, triangles, copy=False)
+    assert scene.borrows_arrays and not rayaccel.mesh(vertices, triangles).borrows_arrays
+    # The scene holds no copy of the vertices (a copy would take 12 bytes a vertex) ...
+    assert scene.memory_bytes < rayaccel.mesh(vertices, triangles).memory_bytes
+    accel = rayaccel.build(scene)
+    before = accel.intersect(down_ray(0.5, 0.9))
+    assert before.prim_id[0] == 1 and before.t[0] == 5.0
+    # ... and reads the caller's array in place: a vertex moved there is seen once the scene re-reads it.
+    vertices[:, 2] -= 1.0
+    scene.arrays_changed()
+    after = rayaccel.build(scene).intersect(down_ray(0.5, 0.9))
+    assert after.prim_id[0] == 1 and after.t[0] == 6.0
+    # The scene keeps the arrays alive.
+    del vertices, triangles
+    assert rayaccel.build(scene).intersect(down_ray(0.5, 0.9)).t[0] == 6.0
+
+
+def test_mesh_zero_copy_refuses_arrays_it_cannot_read_in_place():
+    with pytest.raises(ValueError, match="copy=False"):
+        rayaccel.mesh(QUAD_V.astype(np.float64), QUAD_T.astype(np.uint32), copy=False)
+    with pytest.raises(ValueError, match="copy=False"):
+        rayaccel.mesh(QUAD_V.astype(np.float32), QUAD_T.astype(np.int64), copy=False)
+    with pytest.raises(ValueError, match="copy=False"):
+        rayaccel.mesh(np.asfortranarray(QUAD_V.astype(np.float32)), QUAD_T.astype(np.uint32), copy=False)
+    bad = QUAD_T.astype(np.int32)
+    bad[0, 0] = -1
+    with pytest.raises(ValueError, match=r"triangles\[0, 0\] = -1 is out of range"):
+        rayaccel.mesh(QUAD_V.astype(np.float32), bad, copy=False)
+    with pytest.raises(ValueError, match="triangle 1 uses vertex index 9"):
+        rayaccel.mesh(QUAD_V.astype(np.float32), np.array([[0, 1, 2], [0, 2, 9]], np.uint32), copy=False)
 
 
 def test_nonfinite_vertices_only_on_request():
