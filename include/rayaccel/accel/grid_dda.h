@@ -86,7 +86,7 @@ struct GridFrame {
 /// the structure's own coordinates instead of that of a far origin: from an origin 1e6 box sizes away, float
 /// distances measured from the origin are off by more than a cell. A clipped entry is recomputed in double and moved
 /// back by 2^-40 of itself (its rounding is below 2^-50). When even that margin exceeds the box (origins more than
-/// about 1e12 box sizes away), the traversal keeps the ray's own origin (t_base 0, `shifted` false).
+/// about 1e12 box sizes away), `precise` is false and the caller tests every primitive it holds instead.
 struct TraversalStart {
   double t_base = 0.0;
   Vec3 origin;

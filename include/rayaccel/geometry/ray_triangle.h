@@ -4,8 +4,9 @@
 // Based Rendering", 3rd ed., section 3.9.6, with the shear's rounding counted in world units so that the bound holds
 // for any direction length). A float edge function beyond its bound has the sign of the exact one; edge functions
 // of opposite signs beyond their bounds are a miss. When any edge function lies inside its bound, or the bound is
-// large against the determinant (rays far from small triangles), all three are computed exactly (exact_edge.h,
-// expansion arithmetic after Shewchuk 1997) and rounded once. So each edge's sign is that of the exact edge
+// large against the determinant (rays far from small triangles), all three are recomputed from the float inputs
+// (exact_edge.h: in double with a static error bound, else exactly by expansion arithmetic after Shewchuk 1997) with
+// their exact signs. So each edge's sign is that of the exact edge
 // function of the float ray and vertices: a ray through an edge or vertex of a closed mesh hits at least one
 // triangle (edges count as inside), and the same edge is decided the same way in both triangles that share it.
 // Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and tiny
@@ -18,9 +19,9 @@
 // from "hitting" the plane it left at a small positive t that box culling (exactly conservative) rules out.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <initializer_list>
 #include <limits>
 
