@@ -2,9 +2,11 @@
 #include "rayaccel/render/heatmap.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
+#include "rayaccel/core/error.h"
 #include "rayaccel/render/bitmap_font.h"
 #include "rayaccel/render/colormap.h"
 
@@ -21,9 +23,14 @@ int legend_scale(int width, int height) { return std::max(1, (std::min(width, he
 }  // namespace
 
 CostRange cost_range(std::span<const TraversalStats> stats) {
-  if (stats.empty()) return {};
   std::vector<std::uint64_t> costs(stats.size());
   std::transform(stats.begin(), stats.end(), costs.begin(), traversal_cost);
+  return cost_range(costs);
+}
+
+CostRange cost_range(std::span<const std::uint64_t> costs_in) {
+  if (costs_in.empty()) return {};
+  std::vector<std::uint64_t> costs(costs_in.begin(), costs_in.end());
   const auto [lowest, highest] = std::minmax_element(costs.begin(), costs.end());
   CostRange r{*lowest, 0, *highest};
   const auto quantile = costs.begin() + static_cast<std::ptrdiff_t>(kHeatScalePercentile * (costs.size() - 1));
@@ -78,6 +85,36 @@ void draw_heat_legend(Image& image, const CostRange& range) {
       break;
     }
   }
+}
+
+CostRange shared_cost_range(std::span<const HeatFrame* const> frames) {
+  std::vector<std::uint64_t> pooled;
+  for (const HeatFrame* frame : frames) pooled.insert(pooled.end(), frame->cost.begin(), frame->cost.end());
+  return cost_range(pooled);
+}
+
+Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale) {
+  if (frame.cost.size() != static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) ||
+      frame.brightness.size() != frame.cost.size()) {
+    throw Error("heat frame: " + std::to_string(frame.cost.size()) + " costs and " +
+                std::to_string(frame.brightness.size()) + " brightness values for " + std::to_string(frame.width) +
+                " x " + std::to_string(frame.height) + " pixels");
+  }
+  Image image = Image::filled(frame.width, frame.height, Rgb{0, 0, 0});
+  for (int y = 0; y < frame.height; ++y) {
+    for (int x = 0; x < frame.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(frame.width) + x;
+      const Rgb c = heat_colour(cost_fraction(frame.cost[i], scale));
+      const float b = frame.brightness[i];
+      image.set(x, y,
+                {static_cast<std::uint8_t>(std::lround(c.r * b)), static_cast<std::uint8_t>(std::lround(c.g * b)),
+                 static_cast<std::uint8_t>(std::lround(c.b * b))});
+    }
+  }
+  CostRange legend = scale;
+  legend.highest = frame.range.highest;
+  draw_heat_legend(image, legend);
+  return image;
 }
 
 }  // namespace rayaccel

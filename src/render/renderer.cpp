@@ -97,26 +97,25 @@ Rgb normal_colour(const Vec3& n) {
           static_cast<std::uint8_t>(std::lround(std::clamp(a.z, 0.0f, 1.0f) * 255.0f))};
 }
 
-Rgb scaled(Rgb c, float f) {
-  return {static_cast<std::uint8_t>(std::lround(c.r * f)), static_cast<std::uint8_t>(std::lround(c.g * f)),
-          static_cast<std::uint8_t>(std::lround(c.b * f))};
-}
-
-void shade_heatmap(Image& image, const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
-                   std::span<const TraversalStats> stats) {
-  const CostRange range = cost_range(stats);
-  for_rows(0, image.height, [&](int y) {
-    for (int x = 0; x < image.width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * image.width + x;
-      Rgb c = heat_colour(cost_fraction(traversal_cost(stats[i]), range));
+HeatFrame heat_frame(const Scene& scene, int width, int height, std::span<const Ray> rays, std::span<const Hit> hits,
+                     std::span<const TraversalStats> stats) {
+  HeatFrame frame;
+  frame.width = width;
+  frame.height = height;
+  frame.cost.resize(stats.size());
+  frame.brightness.assign(stats.size(), 1.0f);
+  for_rows(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      frame.cost[i] = traversal_cost(stats[i]);
       if (hits[i].found()) {
         const float facing = std::fabs(dot(scene.normal(rays[i], hits[i]), rays[i].direction));
-        c = scaled(c, 0.6f + 0.3f * std::clamp(facing, 0.0f, 1.0f));
+        frame.brightness[i] = 0.6f + 0.3f * std::clamp(facing, 0.0f, 1.0f);
       }
-      image.set(x, y, c);
     }
   });
-  draw_heat_legend(image, range);
+  frame.range = cost_range(frame.cost);
+  return frame;
 }
 
 }  // namespace
@@ -170,7 +169,10 @@ RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& 
     if (settings.progress) settings.progress(static_cast<float>(y1) / static_cast<float>(height));
   }
   for (const TraversalStats& st : stats) result.total += st;
-  if (settings.mode == ShadingMode::heatmap) shade_heatmap(result.image, scene, rays, hits, stats);
+  if (settings.mode == ShadingMode::heatmap) {
+    result.heat = heat_frame(scene, width, height, rays, hits, stats);
+    result.image = draw_heat_frame(result.heat, settings.heat_scale.value_or(result.heat.range));
+  }
   return result;
 }
 

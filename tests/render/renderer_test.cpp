@@ -123,9 +123,72 @@ TEST(Renderer, HeatMapScaleRunsFromMinToThe99thPercentile) {
   EXPECT_EQ(cost_fraction(100001, range), 1.0f);
   EXPECT_FLOAT_EQ(cost_fraction(200, range), 0.5f);
   EXPECT_EQ(cost_fraction(7, CostRange{7, 7, 7}), 0.5f);
-  const CostRange empty = cost_range({});
+  const CostRange empty = cost_range(std::span<const TraversalStats>{});
   EXPECT_EQ(empty.min, 0u);
   EXPECT_EQ(empty.highest, 0u);
+}
+
+TEST(Renderer, HeatMapIsItsFrameDrawnOnItsOwnScale) {
+  const Scene scene = tilted_quad();
+  const RenderResult r = render_with(scene, ShadingMode::heatmap, 96, 80);
+  ASSERT_EQ(r.heat.cost.size(), std::size_t{96 * 80});
+  EXPECT_EQ(r.heat.range.min, 3u);  // brute force: 1 node + 2 primitives per ray
+  EXPECT_EQ(r.heat.range.highest, 3u);
+  EXPECT_EQ(draw_heat_frame(r.heat, r.heat.range).rgb, r.image.rgb);
+  // Misses keep the plain ramp; hits are darkened by how obliquely the ray meets the quad.
+  EXPECT_EQ(r.heat.brightness[0], 1.0f);
+  const std::size_t center = 40 * 96 + 48;
+  EXPECT_GE(r.heat.brightness[center], 0.6f);
+  EXPECT_LT(r.heat.brightness[center], 0.9f);
+  // Other modes keep no frame.
+  EXPECT_TRUE(render_with(scene, ShadingMode::normals, 8, 8).heat.cost.empty());
+}
+
+TEST(Renderer, FixedHeatScalePlacesEveryCostOnIt) {
+  const Scene scene = tilted_quad();
+  BruteForce bf;
+  bf.build(scene);
+  RenderSettings settings;
+  settings.width = 64;
+  settings.height = 64;
+  settings.mode = ShadingMode::heatmap;
+  settings.heat_scale = CostRange{0, 12, 12};
+  const RenderResult r = render(bf, scene, camera_for_quad(), settings);
+  // Every ray costs 3, a quarter of the way up a scale from 0 to 12: a miss pixel shows heat_colour(0.25).
+  EXPECT_EQ(r.image.at(1, 1), heat_colour(0.25f));
+  EXPECT_NE(r.image.at(1, 1), heat_colour(0.5f));
+  EXPECT_EQ(draw_heat_frame(r.heat, CostRange{0, 12, 12}).rgb, r.image.rgb);
+}
+
+TEST(Renderer, SharedHeatScalePoolsThePixelsOfEveryFrame) {
+  HeatFrame cheap, dear;
+  for (HeatFrame* f : {&cheap, &dear}) {
+    f->width = 10;
+    f->height = 10;
+    f->brightness.assign(100, 1.0f);
+  }
+  for (std::uint64_t i = 0; i < 100; ++i) {
+    cheap.cost.push_back(i);        // 0 .. 99
+    dear.cost.push_back(100 + i);   // 100 .. 199
+  }
+  dear.cost[5] = 100000;  // one outlier
+  cheap.range = cost_range(cheap.cost);
+  dear.range = cost_range(dear.cost);
+  const std::vector<const HeatFrame*> frames = {&cheap, &dear};
+  const CostRange shared = shared_cost_range(frames);
+  EXPECT_EQ(shared.min, 0u);
+  EXPECT_EQ(shared.highest, 100000u);
+  // Pooled sorted costs 0 .. 104, 106 .. 199, 100000: position floor(0.99 * 199) = 197 holds 198.
+  EXPECT_EQ(shared.max, 198u);
+  // Equal costs get equal colours in both images; each image's own scale would colour them differently.
+  cheap.cost[0] = 150;
+  const Image a = draw_heat_frame(cheap, shared), b = draw_heat_frame(dear, shared);
+  EXPECT_EQ(a.at(0, 0), b.at(0, 5));  // dear.cost[50] = 150
+  EXPECT_NE(draw_heat_frame(cheap, cheap.range).at(0, 0), draw_heat_frame(dear, dear.range).at(0, 5));
+  EXPECT_EQ(shared_cost_range(std::vector<const HeatFrame*>{}).max, 0u);
+  HeatFrame broken = cheap;
+  broken.brightness.pop_back();
+  EXPECT_THROW(draw_heat_frame(broken, shared), Error);
 }
 
 TEST(Renderer, ClippedLegendSaysSo) {

@@ -1,10 +1,12 @@
 // Heat maps of traversal cost: the cost of a ray (nodes visited + primitives tested), its place on a linear scale
 // from the image's cheapest ray to its 99th-percentile cost (a few grazing silhouette rays would otherwise squeeze
-// everything else into the dark end), and the legend (colour bar with the numeric range) drawn into the image.
+// everything else into the dark end), or on a scale several images share, and the legend (colour bar with the
+// numeric range) drawn into the image.
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "rayaccel/core/stats.h"
 #include "rayaccel/render/image.h"
@@ -26,6 +28,7 @@ inline constexpr double kHeatScalePercentile = 0.99;
 /// min = the smallest cost, max = the kHeatScalePercentile quantile (the cost at sorted position
 /// floor(0.99 * (n - 1))), highest = the largest; all 0 when empty.
 CostRange cost_range(std::span<const TraversalStats> stats);
+CostRange cost_range(std::span<const std::uint64_t> costs);
 /// (cost - min) / (max - min) clamped to [0, 1]; 0.5 when the range is a single value (no ray is cheaper or
 /// dearer than another, so every pixel takes the middle of the ramp).
 float cost_fraction(std::uint64_t cost, const CostRange& range);
@@ -39,5 +42,26 @@ int heat_legend_height(int width, int height);
 /// clipped to the image.
 /// Images less than three legend heights tall get no legend (it would hide most of the picture).
 void draw_heat_legend(Image& image, const CostRange& range);
+
+/// What a heat map is drawn from, kept apart from the image so several maps can be drawn on one scale afterwards.
+struct HeatFrame {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint64_t> cost;  ///< traversal_cost() per pixel, row by row
+  std::vector<float> brightness;    ///< per pixel: 1 at misses, 0.6 to 0.9 at hits (by how squarely the ray meets)
+  CostRange range;                  ///< cost_range() of this frame alone
+};
+
+/// Bytes per pixel that keeping HeatFrames and then taking their shared_cost_range() needs.
+inline constexpr std::size_t kSharedHeatBytesPerPixel = 2 * sizeof(std::uint64_t) + sizeof(float);
+
+/// One scale for several images, so that equal costs get equal colours in every one: cost_range() of all their
+/// pixels pooled (an image whose rays all cost more than the pooled 99th percentile, brute force's beside a BVH's,
+/// shows as clipped rather than pushing every other image into the dark end). All 0 when there are no pixels.
+CostRange shared_cost_range(std::span<const HeatFrame* const> frames);
+
+/// The heat map of `frame` on `scale`: heat_colour(cost_fraction(cost, scale)) times the pixel's brightness, and
+/// the legend of `scale` with the frame's own highest cost (so "+" marks exactly the frames that are clipped).
+Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale);
 
 }  // namespace rayaccel

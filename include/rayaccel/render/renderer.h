@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "rayaccel/core/scene.h"
 #include "rayaccel/core/stats.h"
 #include "rayaccel/render/camera.h"
+#include "rayaccel/render/heatmap.h"
 #include "rayaccel/render/image.h"
 
 namespace rayaccel {
@@ -27,6 +29,8 @@ struct RenderSettings {
   int ao_samples = 8;                 ///< shadow rays per hit in ao mode
   float ao_distance_fraction = 0.1f;  ///< ao ray length as a fraction of the scene box diagonal
   std::uint64_t seed = 1;
+  /// heatmap mode: the colour scale (min and max; highest is ignored); empty = this image's own cost_range().
+  std::optional<CostRange> heat_scale;
   /// Called with the fraction done (0..1) as rows finish; may be empty.
   std::function<void(float)> progress;
 };
@@ -36,6 +40,7 @@ struct RenderResult {
   double trace_milliseconds = 0.0;  ///< wall time inside the accelerator's batch calls (statistics on)
   TraversalStats total;              ///< summed over every ray traced
   std::uint64_t rays = 0;            ///< primary rays plus ambient-occlusion rays
+  HeatFrame heat;                    ///< heatmap mode: what the image was drawn from (to redraw on another scale)
 };
 
 /// Renders `scene` (which `accel` must have been built over) through accel's batch API, in chunks of rows whose
@@ -44,7 +49,7 @@ struct RenderResult {
 /// - ambient_occlusion: grey = sRGB-encoded fraction of ao_samples cosine-weighted shadow rays (length
 ///   ao_distance_fraction times the scene box diagonal) left unoccluded; the same background.
 /// - heatmap: heat_colour() of each primary ray's cost on the linear scale of cost_range() (cheapest ray to the
-///   99th percentile), with the legend of heatmap.h in the bottom rows. Hit pixels are darkened by 10 to 40 percent
+///   99th percentile) or on settings.heat_scale, with the legend of heatmap.h in the bottom rows. Hit pixels are darkened by 10 to 40 percent
 ///   with the angle between ray and surface, so shapes stay readable where cost is uniform (brute force);
 ///   misses and the legend show the plain ramp.
 /// The result is the same for any thread count. Throws Error for a non-positive size, or ao_samples < 1 or a
