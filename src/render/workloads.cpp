@@ -23,32 +23,57 @@ Vec3 facing_normal(const Scene& scene, const Ray& ray, const Hit& hit) {
   return dot(n, ray.direction) > 0.0f ? -n : n;
 }
 
-/// One bounce ray per hit, t in [0, max_distance]; the shared body of diffuse_rays() and shadow_rays().
-std::vector<Ray> bounce_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
-                             float max_distance, std::uint64_t seed) {
+/// Where a ray leaving the surface at the hit toward `w` starts (see OriginOffset); n faces the incoming ray.
+Vec3 secondary_origin(const Scene& scene, const Ray& ray, const Hit& hit, const Vec3& n, const Vec3& w,
+                      OriginOffset offset) {
+  const SurfacePoint surface = surface_point(scene, ray, hit);
+  if (offset.fixed_distance > 0.0f) return surface.point + (dot(w, n) < 0.0f ? -n : n) * offset.fixed_distance;
+  return offset_ray_origin(surface, n, w);
+}
+
+void check_offset(const OriginOffset& offset) {
+  if (!(offset.fixed_distance >= 0.0f && std::isfinite(offset.fixed_distance))) {
+    throw Error("secondary rays: fixed origin offset " + std::to_string(offset.fixed_distance) +
+                " is not a finite distance >= 0");
+  }
+}
+
+/// Calls make(i, slot) for each hit i, in parallel; slot = its place among the hits, so the output order is the
+/// input order whatever the thread count. Returns the number of hits.
+template <class Make>
+std::size_t for_each_hit(std::span<const Ray> rays, std::span<const Hit> hits, std::vector<Ray>& out,
+                         const Make& make) {
   if (rays.size() != hits.size()) {
-    throw Error("bounce rays: " + std::to_string(rays.size()) + " rays but " + std::to_string(hits.size()) +
+    throw Error("secondary rays: " + std::to_string(rays.size()) + " rays but " + std::to_string(hits.size()) +
                 " hits");
   }
-  // Output slot of each hit: a prefix count, so the output order is the input order whatever the thread count.
   std::vector<std::size_t> slot(hits.size());
   std::size_t count = 0;
   for (std::size_t i = 0; i < hits.size(); ++i) {
     slot[i] = count;
     count += hits[i].found() ? 1 : 0;
   }
-  std::vector<Ray> out(count);
+  out.assign(count, Ray{});
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (!hits[i].found()) continue;
-      const Vec3 n = facing_normal(scene, rays[i], hits[i]);
-      const Vec3 w = cosine_hemisphere(n, uniform_float(seed, i, 0), uniform_float(seed, i, 1));
-      Ray& r = out[slot[i]];
-      r.origin = offset_ray_origin(surface_point(scene, rays[i], hits[i]), n, w);
-      r.direction = w;
-      r.t_min = 0.0f;
-      r.t_max = max_distance;
+      if (hits[i].found()) make(i, out[slot[i]]);
     }
+  });
+  return count;
+}
+
+/// One bounce ray per hit, t in [0, max_distance]; the shared body of diffuse_rays() and shadow_rays().
+std::vector<Ray> bounce_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
+                             float max_distance, std::uint64_t seed, OriginOffset offset) {
+  check_offset(offset);
+  std::vector<Ray> out;
+  for_each_hit(rays, hits, out, [&](std::size_t i, Ray& r) {
+    const Vec3 n = facing_normal(scene, rays[i], hits[i]);
+    const Vec3 w = cosine_hemisphere(n, uniform_float(seed, i, 0), uniform_float(seed, i, 1));
+    r.origin = secondary_origin(scene, rays[i], hits[i], n, w, offset);
+    r.direction = w;
+    r.t_min = 0.0f;
+    r.t_max = max_distance;
   });
   return out;
 }
@@ -90,14 +115,30 @@ std::vector<std::size_t> packet_tile_order(int width, int height) {
 }
 
 std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
-                              std::uint64_t seed) {
-  return bounce_rays(scene, rays, hits, std::numeric_limits<float>::infinity(), seed);
+                              std::uint64_t seed, OriginOffset offset) {
+  return bounce_rays(scene, rays, hits, std::numeric_limits<float>::infinity(), seed, offset);
 }
 
 std::vector<Ray> shadow_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
-                             float max_distance, std::uint64_t seed) {
+                             float max_distance, std::uint64_t seed, OriginOffset offset) {
   if (!(max_distance >= 0.0f)) throw Error("shadow rays: max_distance " + std::to_string(max_distance) + " < 0");
-  return bounce_rays(scene, rays, hits, max_distance, seed);
+  return bounce_rays(scene, rays, hits, max_distance, seed, offset);
+}
+
+std::vector<Ray> light_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
+                            const Vec3& light, OriginOffset offset) {
+  check_offset(offset);
+  if (!is_finite(light)) throw Error("light rays: the light position is not finite");
+  std::vector<Ray> out;
+  for_each_hit(rays, hits, out, [&](std::size_t i, Ray& r) {
+    const Vec3 n = facing_normal(scene, rays[i], hits[i]);
+    const Vec3 toward = light - surface_point(scene, rays[i], hits[i]).point;
+    r.origin = secondary_origin(scene, rays[i], hits[i], n, toward, offset);
+    r.direction = light - r.origin;
+    r.t_min = 0.0f;
+    r.t_max = 0x1.fffffep-1f;  // the largest float below 1: the light point itself is not a hit
+  });
+  return out;
 }
 
 SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {

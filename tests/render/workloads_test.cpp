@@ -214,6 +214,57 @@ TEST(Workloads, DiffuseRaysNeverReHitAConvexSphere) {
   EXPECT_EQ(count_hits(scene, bounced), 0u);
 }
 
+TEST(Workloads, FixedOffsetMovesOriginsThatFarAlongTheNormal) {
+  // The plane z = 0 seen from above: the normal facing the camera is +z, so origins sit at z = 0.01 exactly.
+  const Scene scene = quad_scene({-1.0f, -1.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f});
+  const Traced t = trace_primary(scene, looking_at({0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}), 32);
+  const std::vector<Ray> tight = shadow_rays(scene, t.rays, t.hits, 0.5f, 7);
+  const std::vector<Ray> fixed = shadow_rays(scene, t.rays, t.hits, 0.5f, 7, OriginOffset{0.01f});
+  ASSERT_EQ(fixed.size(), tight.size());
+  ASSERT_GT(fixed.size(), 100u);
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    EXPECT_FLOAT_EQ(fixed[i].origin.z, 0.01f) << i;
+    EXPECT_LT(tight[i].origin.z, 1e-5f) << i;  // pbrt's offset is a few ulps here
+    EXPECT_EQ(fixed[i].direction, tight[i].direction) << i;
+    EXPECT_EQ(fixed[i].t_max, 0.5f);
+  }
+  EXPECT_THROW(diffuse_rays(scene, t.rays, t.hits, 7, OriginOffset{-1.0f}), Error);
+  EXPECT_THROW(diffuse_rays(scene, t.rays, t.hits, 7, OriginOffset{std::nanf("")}), Error);
+}
+
+TEST(Workloads, LightRaysEndJustBeforeTheLight) {
+  // A floor at z = 0 and, between part of it and the light, a small occluder at z = 1.
+  TriangleMesh mesh;
+  mesh.vertices = {{-2, -2, 0}, {2, -2, 0}, {2, 2, 0}, {-2, 2, 0}, {-0.5f, -0.5f, 1}, {0.5f, -0.5f, 1},
+                   {0.5f, 0.5f, 1}, {-0.5f, 0.5f, 1}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  const Scene scene = Scene::from_mesh(std::move(mesh), "floor");
+  const Traced t = trace_primary(scene, looking_at({0.0f, -6.0f, 6.0f}, {0.0f, 0.0f, 0.0f}), 48);
+  const Vec3 light{0.0f, 0.0f, 3.0f};
+  const std::vector<Ray> rays = light_rays(scene, t.rays, t.hits, light);
+  std::size_t hits = 0;
+  for (const Hit& h : t.hits) hits += h.found() ? 1 : 0;
+  ASSERT_EQ(rays.size(), hits);
+  BruteForce bf;
+  bf.build(scene);
+  std::size_t shadowed = 0, lit = 0;
+  for (const Ray& r : rays) {
+    EXPECT_EQ(r.t_min, 0.0f);
+    EXPECT_LT(r.t_max, 1.0f);
+    EXPECT_LT(length(r.origin + r.direction - light), 1e-5f);  // the ray ends at the light
+    const bool occluded = bf.occluded(r);
+    // The occluder's shadow on the floor, seen from a light at height 3: |x|, |y| <= 0.5 * 3 / (3 - 1) = 0.75.
+    const bool in_shadow = r.origin.z < 0.5f && std::abs(r.origin.x) < 0.75f && std::abs(r.origin.y) < 0.75f;
+    const bool near_edge = r.origin.z < 0.5f && (std::abs(std::abs(r.origin.x) - 0.75f) < 0.02f ||
+                                                 std::abs(std::abs(r.origin.y) - 0.75f) < 0.02f);
+    if (!near_edge) EXPECT_EQ(occluded, in_shadow) << r.origin.x << " " << r.origin.y << " " << r.origin.z;
+    (occluded ? shadowed : lit) += 1;
+  }
+  EXPECT_GT(shadowed, 10u);
+  EXPECT_GT(lit, 10u);
+  EXPECT_THROW(light_rays(scene, t.rays, t.hits, Vec3{std::nanf(""), 0.0f, 0.0f}), Error);
+}
+
 TEST(Sampling, UniformFloatsAreInRangeAndDiffer) {
   double sum = 0.0;
   for (std::uint64_t i = 0; i < 10000; ++i) {

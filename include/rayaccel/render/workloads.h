@@ -1,6 +1,7 @@
-// The ray kinds benchmarks and renders trace: primary camera rays, one cosine-weighted diffuse bounce per hit, and
-// short ambient-occlusion shadow rays. Deterministic for a given seed. Secondary-ray origins follow pbrt's
-// conservative offset (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., section 3.9).
+// The ray kinds benchmarks and renders trace: primary camera rays, one cosine-weighted diffuse bounce per hit,
+// ambient-occlusion shadow rays of a given length, and shadow rays to a point light. Deterministic for a given seed.
+// Secondary-ray origins follow pbrt's conservative offset (Pharr, Jakob, Humphreys, "Physically Based Rendering",
+// 3rd ed., section 3.9) or, as many renderers do, a fixed distance along the normal.
 #pragma once
 
 #include <cstddef>
@@ -25,15 +26,28 @@ std::vector<Ray> primary_rays(const Camera& camera, int width, int height);
 /// then the last row when height is odd) follow in row-major order. Every pixel appears once (both > 0, else Error).
 std::vector<std::size_t> packet_tile_order(int width, int height);
 
+/// Where a secondary ray starts. By default offset_ray_origin() (pbrt's conservative offset: the ray cannot hit
+/// the surface it leaves); with fixed_distance > 0, the surface point moved that far along the normal, toward the
+/// side the ray leaves by, the "epsilon" many renderers use (rays may then start behind nearby geometry or, at
+/// grazing angles, re-hit their own surface: what those renderers' rays look like).
+struct OriginOffset {
+  float fixed_distance = 0.0f;
+};
+
 /// One cosine-weighted bounce from each hit of `rays` (misses produce none; output order = order of the hits),
 /// on the side the ray came from, unbounded (t in [0, +inf)), unit direction. The random numbers of ray i depend
-/// only on (seed, i), never on the thread count. Each origin is lifted off the surface by
-/// offset_ray_origin(), so the ray cannot hit the surface it leaves.
+/// only on (seed, i), never on the thread count. Each origin is placed by `offset` (by default lifted off the
+/// surface by offset_ray_origin(), so the ray cannot hit the surface it leaves).
 std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
-                              std::uint64_t seed);
+                              std::uint64_t seed, OriginOffset offset = {});
 /// Like diffuse_rays() but with t_max = max_distance (ambient-occlusion rays, traced with occluded()).
 std::vector<Ray> shadow_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
-                             float max_distance, std::uint64_t seed);
+                             float max_distance, std::uint64_t seed, OriginOffset offset = {});
+/// One shadow ray from each hit of `rays` to the point `light` (misses produce none; output order = order of the
+/// hits): direction light - origin (not normalized), t in [0, 1), so the light point itself is never a hit, traced
+/// with occluded(). Hits whose surface faces away from the light still get a ray (leaving by the far side).
+std::vector<Ray> light_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits,
+                            const Vec3& light, OriginOffset offset = {});
 
 /// A hit point recomputed from the primitive, with a per-axis bound on its distance from the true surface.
 struct SurfacePoint {
