@@ -17,16 +17,18 @@
 
 namespace rayaccel::cli {
 
-/// packet: the primary rays reordered so that each run of eight is a 4 x 2 pixel tile (packet_tile_order()).
-enum class RayKind { primary, diffuse, shadow, packet };
+/// shadow: short ambient-occlusion rays from pbrt-tight origins; occlusion: longer ones from origins a fixed epsilon
+/// off the surface; light: rays to a point light; packet: the primary rays reordered so that each run of eight is a
+/// 4 x 2 pixel tile (packet_tile_order()). bench_command.cpp's footer gives the lengths.
+enum class RayKind { primary, diffuse, shadow, occlusion, light, packet };
 const char* to_string(RayKind kind);
 
 /// One set of rays traced the same way for every structure: intersect() for primary and diffuse, occluded() for
-/// shadow rays, intersect_packets() for packet rays.
+/// shadow, occlusion and light rays, intersect_packets() for packet rays.
 struct Workload {
   RayKind kind = RayKind::primary;
   std::vector<Ray> rays;
-  bool any_hit() const { return kind == RayKind::shadow; }
+  bool any_hit() const { return kind == RayKind::shadow || kind == RayKind::occlusion || kind == RayKind::light; }
   bool packets() const { return kind == RayKind::packet; }
 };
 
@@ -48,7 +50,8 @@ struct StructureResult {
   std::string failure;  ///< build or trace error; the row has no figures then
   std::vector<double> build_ms;
   double build_ms_median = 0.0;
-  std::size_t memory_bytes = 0;
+  std::size_t memory_bytes = 0;        ///< the structure's own data
+  std::size_t input_memory_bytes = 0;  ///< the input queries read besides it (Accelerator::input_memory_bytes)
   std::vector<BuildStatistic> build_statistics;
   std::vector<std::string> validate_problems;
   std::vector<KindResult> kinds;
@@ -64,11 +67,15 @@ struct SceneReport {
   int threads = 0;
   int resolution = 0;
   std::string reference;  ///< "embree (all rays)" or "brute_force (sample of N rays)"
+  double scene_preparation_ms = 0.0;  ///< included in the build times of rayaccel's structures
   std::vector<StructureResult> rows;
 };
 
 /// The reference every structure is checked against before timing: Embree's answers for every ray when it is
-/// available (disagreements are then re-checked with brute force, the oracle), else brute force on a sample.
+/// available (every ray where the structure names another primitive or hit/miss is then settled by brute force,
+/// the oracle), else brute force on a sample. A closest hit agrees with the oracle when it names the same primitive
+/// or another one at exactly the same t (a tie); every closest hit must also carry the kernel's own t, u, v for the
+/// primitive it names (kernel_fault()).
 class ReferenceCheck {
  public:
   /// `embree` may be null. `sample_size` bounds the brute-force sample per workload.
@@ -103,6 +110,10 @@ class ReferenceCheck {
   std::vector<Answers> answers_;
   mutable std::vector<std::unordered_map<std::size_t, Settled>> settled_;  ///< per workload: ray index -> answer
 };
+
+/// Empty when `hit` is what the scene's own kernel (the one brute force uses) gives for the primitive it names,
+/// bit for bit in t, u and v (a miss: t = +inf, u = v = 0); else what differs.
+std::string kernel_fault(const Scene& scene, const Ray& ray, const Hit& hit);
 
 /// The aligned per-scene table on stdout, with ratios to the Embree row when there is one.
 void print_table(const SceneReport& report);

@@ -1,5 +1,7 @@
 // The check `rayaccel bench` runs before timing anything: every structure's answers against Embree for every ray
-// (a disagreement is then settled by brute force, the oracle) or, without Embree, against brute force on a sample.
+// (every disagreement then settled by brute force, the oracle) or, without Embree, against brute force on a sample.
+// Closest hits must name the oracle's primitive or an exact tie in t, and carry exactly the t, u, v that the shared
+// triangle kernel gives for the primitive they name.
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -12,27 +14,48 @@ namespace rayaccel::cli {
 
 namespace {
 
-constexpr double kEmbreeTolerance = 1e-4;  // relative t difference allowed between Embree's kernel and ours
-constexpr double kOracleTolerance = 1e-6;  // same kernel: only ties in t may pick another primitive
 constexpr std::size_t kExamples = 5;
 
-/// Same answer: both miss, or both hit the same primitive or at t within a relative tolerance (a tie in t).
-bool same_hit(const Hit& got, const Hit& want, double tolerance) {
-  if (got.found() != want.found()) return false;
-  if (!got.found() || got.prim_id == want.prim_id) return true;
-  const double diff = std::abs(double(got.t) - double(want.t));
-  return diff <= tolerance * std::abs(double(want.t));
+/// Both miss, or both name the same primitive (Embree's answer: its t, u, v come from another kernel, and the
+/// structure's own are checked against ours by kernel_fault()).
+bool same_primitive(const Hit& got, const Hit& want) {
+  return got.found() == want.found() && (!got.found() || got.prim_id == want.prim_id);
 }
 
+/// The oracle's answer, or an exact tie: another primitive hit at exactly the oracle's t.
+bool agrees_with_oracle(const Hit& got, const Hit& want) {
+  if (got.found() != want.found()) return false;
+  if (!got.found()) return true;
+  return got.prim_id == want.prim_id ? got.t == want.t && got.u == want.u && got.v == want.v : got.t == want.t;
+}
+
+}  // namespace
+
+std::string kernel_fault(const Scene& scene, const Ray& ray, const Hit& hit) {
+  if (!hit.found()) {
+    return std::isinf(hit.t) && hit.t > 0.0f && hit.u == 0.0f && hit.v == 0.0f ? "" : "a miss must be t=+inf, u=v=0";
+  }
+  if (hit.prim_id >= scene.primitive_count()) return fmt::format("prim {} does not exist", hit.prim_id);
+  const PreparedRay prepared(ray);
+  Hit check = Hit::begin(prepared);
+  if (!scene.intersect(hit.prim_id, prepared, check)) return fmt::format("prim {} is not hit by this ray", hit.prim_id);
+  if (check.t != hit.t || check.u != hit.u || check.v != hit.v) {
+    return fmt::format("the kernel hits prim {} at t={:.9g} u={:.9g} v={:.9g}", hit.prim_id, check.t, check.u,
+                       check.v);
+  }
+  return "";
+}
+
+namespace {
+
 std::string describe(const Hit& h) {
-  return h.found() ? fmt::format("t={:.9g} prim={}", h.t, h.prim_id) : std::string("miss");
+  return h.found() ? fmt::format("t={:.9g} prim={} u={:.9g} v={:.9g}", h.t, h.prim_id, h.u, h.v) : std::string("miss");
 }
 
 std::string describe(const Ray& r) {
   return fmt::format("o=({:.9g},{:.9g},{:.9g}) d=({:.9g},{:.9g},{:.9g}) t=[{:.9g},{:.9g}]", r.origin.x, r.origin.y,
                      r.origin.z, r.direction.x, r.direction.y, r.direction.z, r.t_min, r.t_max);
 }
-
 }  // namespace
 
 ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& workloads, const Accelerator* embree,
@@ -107,40 +130,43 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
       accel.intersect(rays, hits);
     }
     result.checked = rays.size();
-    const double tolerance = from_embree_ ? kEmbreeTolerance : kOracleTolerance;
+    // First pass: answers the reference accepts, and rays to settle by brute force (Embree's disagreements).
     std::vector<std::size_t> disagreements;
     for (std::size_t i = 0; i < rays.size(); ++i) {
-      const bool agrees = w.any_hit() ? occluded[i] == a.occluded[i] : same_hit(hits[i], a.hits[i], tolerance);
+      const bool agrees = w.any_hit()     ? occluded[i] == a.occluded[i]
+                          : from_embree_ ? same_primitive(hits[i], a.hits[i])
+                                          : agrees_with_oracle(hits[i], a.hits[i]);
       if (!agrees) disagreements.push_back(i);
     }
     if (from_embree_) settle(k, disagreements);
-    std::size_t examples = 0;
+    std::vector<bool> settled_ok(rays.size(), false);
     for (std::size_t i : disagreements) {
-      bool mismatch = true;
-      std::string oracle_text;
-      if (from_embree_) {
-        const Settled& truth = settled_[k].at(i);
-        if (w.any_hit()) {
-          mismatch = (occluded[i] != 0) != truth.occluded;
-          oracle_text = truth.occluded ? "occluded" : "not occluded";
-        } else {
-          mismatch = !same_hit(hits[i], truth.hit, kOracleTolerance);
-          oracle_text = describe(truth.hit);
-        }
-      }
-      if (!mismatch) {
-        ++result.reference_differences;
-        continue;
-      }
+      if (!from_embree_) continue;
+      const Settled& truth = settled_[k].at(i);
+      settled_ok[i] = w.any_hit() ? (occluded[i] != 0) == truth.occluded : agrees_with_oracle(hits[i], truth.hit);
+      if (settled_ok[i]) ++result.reference_differences;
+    }
+    // Second pass: every disagreement the oracle did not settle, and every closest hit whose t, u, v are not the
+    // kernel's for the primitive it names, is a mismatch.
+    std::vector<bool> disagrees(rays.size(), false);
+    for (std::size_t i : disagreements) disagrees[i] = !settled_ok[i];
+    std::size_t examples = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const std::string fault = w.any_hit() ? std::string() : kernel_fault(scene_, rays[i], hits[i]);
+      if (!disagrees[i] && fault.empty()) continue;
       ++result.mismatches;
-      if (examples++ < kExamples) {
-        const std::string got = w.any_hit() ? (occluded[i] ? "occluded" : "not occluded") : describe(hits[i]);
-        const std::string want =
-            w.any_hit() ? (a.occluded[i] ? "occluded" : "not occluded") : describe(a.hits[i]);
-        std::cerr << fmt::format("MISMATCH {} on {} {} ray {}: got {}, reference {}{}; ray {}\n", accel.spec(),
-                                 scene_.name(), to_string(w.kind), a.indices[i], got, want,
-                                 oracle_text.empty() ? "" : ", brute force " + oracle_text, describe(rays[i]));
+      if (examples++ >= kExamples) continue;
+      const std::string got = w.any_hit() ? (occluded[i] ? "occluded" : "not occluded") : describe(hits[i]);
+      const std::string want = w.any_hit() ? (a.occluded[i] ? "occluded" : "not occluded") : describe(a.hits[i]);
+      std::string oracle_text;
+      if (from_embree_ && settled_[k].count(i)) {
+        const Settled& truth = settled_[k].at(i);
+        oracle_text = w.any_hit() ? (truth.occluded ? "occluded" : "not occluded") : describe(truth.hit);
       }
+      std::cerr << fmt::format("MISMATCH {} on {} {} ray {}: got {}, reference {}{}{}; ray {}\n", accel.spec(),
+                               scene_.name(), to_string(w.kind), a.indices[i], got, want,
+                               oracle_text.empty() ? "" : ", brute force " + oracle_text,
+                               fault.empty() ? "" : ", " + fault, describe(rays[i]));
     }
     if (result.mismatches > 0) {
       std::cerr << fmt::format("MISMATCH {} on {} {}: {} of {} rays disagree with the reference\n", accel.spec(),

@@ -1,7 +1,8 @@
-// `rayaccel bench SCENE...`: for each scene and structure, build time (median of 3 after a warm-up), memory,
-// Mrays/s for primary, diffuse and shadow rays and for the primary rays in 4 x 2 pixel tiles traced as packets of
-// eight (intersect_packets(); Embree: rtcIntersect8), traversal cost per ray, and a check of every answer against a
-// reference before any timing; optionally an Embree row measured the same way, JSON, and images.
+// `rayaccel bench SCENE...`: for each scene and structure, build time (median of 3 after a warm-up, plus the scene
+// preparation), memory, Mrays/s for primary, diffuse, shadow, occlusion and light rays and for the primary rays in
+// 4 x 2 pixel tiles traced as packets of eight (intersect_packets(); Embree: rtcIntersect8), traversal cost per ray,
+// and a check of every answer against a reference before any timing; optionally an Embree row (measured before and
+// after the structures), JSON, and images.
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -26,23 +27,37 @@ namespace {
 struct BenchArgs {
   std::vector<std::string> scenes;
   std::string accel = "all";
-  std::string rays = "primary,diffuse,shadow,packet";
+  std::string rays = "primary,diffuse,shadow,occlusion,light,packet";
   int resolution = 256;
   int threads = 0;
   int repeat = 5;
   std::string compare;
   std::string json;
   std::string images;
+  std::uint64_t heat_max = 0;  ///< 0: every heat map of the run on one shared scale, drawn at the end
 };
+
+/// A heat map waiting for the run's shared colour scale.
+struct PendingHeatMap {
+  std::filesystem::path file;
+  HeatFrame frame;
+};
+
+/// Heat-map data the bench may hold for the shared scale before it asks for --heat-max instead.
+constexpr std::size_t kHeatFrameBudgetBytes = std::size_t{1} << 30;
 
 constexpr int kTimedBuilds = 3;
 constexpr double kAffordableBuildMs = 2000.0;  // warm-up builds slower than this are the only build sample
 constexpr double kCheapPassMs = 1000.0;        // trace passes faster than this get an untimed warm-up first
 constexpr double kTraceBudgetMs = 5000.0;      // timed passes stop early once one workload has used this much
 constexpr std::size_t kBruteForceSample = 2000;
-constexpr float kShadowDistanceFraction = 0.1f;  // shadow ray length / scene box diagonal
+constexpr float kShadowDistanceFraction = 0.1f;     // shadow ray length / scene box diagonal
+constexpr float kOcclusionDistanceFraction = 0.25f; // occlusion ray length / scene box diagonal
+constexpr float kFixedOffsetFraction = 1e-4f;       // occlusion rays' origin offset / scene box diagonal
+constexpr float kLightHeightFraction = 0.45f;       // light above the box center along the camera's up / extent
 constexpr std::uint64_t kDiffuseSeed = 1;
 constexpr std::uint64_t kShadowSeed = 2;
+constexpr std::uint64_t kOcclusionSeed = 3;
 
 /// What one scene's measurements share: the scene, its workloads, the reference check and the output options.
 struct SceneContext {
@@ -53,7 +68,19 @@ struct SceneContext {
   const BenchArgs& args;
   int threads;
   Progress& progress;
+  std::vector<PendingHeatMap>& heat_maps;  ///< filled when the heat maps share the run's scale
+  double scene_preparation_ms;             ///< added to rayaccel's build times (see scene_preparation_ms())
 };
+
+/// The point light of the light rays: above the center of the scene's box along the camera's up direction, inside
+/// the box (near the ceiling of a room, above an object).
+Vec3 light_position(const Scene& scene, const Camera& camera) {
+  if (scene.bounds().is_empty()) return {};
+  const Vec3 up = normalize(camera.up);
+  const Vec3 extent = scene.bounds().extent();
+  const float height = std::abs(up.x) * extent.x + std::abs(up.y) * extent.y + std::abs(up.z) * extent.z;
+  return scene.bounds().center() + up * (kLightHeightFraction * height);
+}
 
 std::vector<RayKind> parse_kinds(const std::string& text) {
   std::vector<RayKind> kinds;
@@ -65,10 +92,15 @@ std::vector<RayKind> parse_kinds(const std::string& text) {
       kind = RayKind::diffuse;
     } else if (item == "shadow") {
       kind = RayKind::shadow;
+    } else if (item == "occlusion") {
+      kind = RayKind::occlusion;
+    } else if (item == "light") {
+      kind = RayKind::light;
     } else if (item == "packet") {
       kind = RayKind::packet;
     } else {
-      throw UsageError("--rays: unknown ray kind '" + item + "' (known: primary, diffuse, shadow, packet)");
+      throw UsageError("--rays: unknown ray kind '" + item +
+                       "' (known: primary, diffuse, shadow, occlusion, light, packet)");
     }
     if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) kinds.push_back(kind);
   }
@@ -106,7 +138,12 @@ void time_builds(const SceneContext& ctx, const std::string& spec, StructureResu
       row.build_ms.push_back(clock.milliseconds());
     }
   }
-  row.build_ms_median = median(row.build_ms);
+  row.build_ms_median = median(row.build_ms) + (row.is_embree ? 0.0 : ctx.scene_preparation_ms);
+}
+
+double mrays_per_second(std::size_t rays, const std::vector<double>& trace_ms) {
+  const double ms = median(trace_ms);
+  return ms > 0.0 ? static_cast<double>(rays) / (ms * 1e3) : 0.0;
 }
 
 void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureResult& row) {
@@ -136,8 +173,7 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
       spent += result.trace_ms.back();
       ctx.progress.update(static_cast<float>(result.trace_ms.size()) / static_cast<float>(ctx.args.repeat));
     }
-    const double ms = median(result.trace_ms);
-    result.mrays_s_median = ms > 0.0 ? static_cast<double>(w.rays.size()) / (ms * 1e3) : 0.0;
+    result.mrays_s_median = mrays_per_second(w.rays.size(), result.trace_ms);
   }
 }
 
@@ -163,19 +199,44 @@ void count_traversal(const SceneContext& ctx, const Accelerator& accel, Structur
   }
 }
 
+std::filesystem::path image_file(const SceneContext& ctx, const std::string& spec, const char* mode_name) {
+  return std::filesystem::path(ctx.args.images) /
+         (safe_file_name(ctx.scene.name()) + "_" + safe_file_name(spec) + "_" + mode_name + ".png");
+}
+
+/// Writes the normals image now; the heat map too when --heat-max fixes its scale, else keeps its frame for
+/// write_shared_heat_maps().
 void render_images(const SceneContext& ctx, const Accelerator& accel, const std::string& spec) {
-  const std::filesystem::path dir(ctx.args.images);
   for (const auto mode : {ShadingMode::normals, ShadingMode::heatmap}) {
     const char* mode_name = mode == ShadingMode::normals ? "normals" : "heatmap";
     ctx.progress.step(fmt::format("rendering {}", mode_name));
     RenderSettings settings;
     settings.width = settings.height = ctx.args.resolution;
     settings.mode = mode;
+    if (ctx.args.heat_max > 0) settings.heat_scale = fixed_heat_scale(ctx.args.heat_max);
     settings.progress = [&ctx](float fraction) { ctx.progress.update(fraction); };
-    const RenderResult result = render(accel, ctx.scene, ctx.camera, settings);
-    result.image.save_png(dir / (safe_file_name(ctx.scene.name()) + "_" + safe_file_name(spec) + "_" + mode_name +
-                                 ".png"));
+    RenderResult result = render(accel, ctx.scene, ctx.camera, settings);
+    if (mode == ShadingMode::heatmap && ctx.args.heat_max == 0) {
+      ctx.heat_maps.push_back({image_file(ctx, spec, mode_name), std::move(result.heat)});
+    } else {
+      result.image.save_png(image_file(ctx, spec, mode_name));
+    }
   }
+}
+
+/// Draws every kept heat map on one scale, the shared_cost_range() of all of them, and writes them.
+void write_shared_heat_maps(std::vector<PendingHeatMap>& heat_maps, Progress& progress) {
+  if (heat_maps.empty()) return;
+  std::vector<const HeatFrame*> frames;
+  for (const auto& h : heat_maps) frames.push_back(&h.frame);
+  const CostRange scale = shared_cost_range(frames);
+  progress.stage(fmt::format("writing {} heat maps on one scale, cost {} to {}", heat_maps.size(), scale.min,
+                             scale.max));
+  for (auto& h : heat_maps) {
+    draw_heat_frame(h.frame, scale).save_png(h.file);
+    h.frame = {};
+  }
+  progress.done();
 }
 
 StructureResult measure(const SceneContext& ctx, const std::string& spec, bool is_embree, std::size_t index,
@@ -195,6 +256,7 @@ StructureResult measure(const SceneContext& ctx, const std::string& spec, bool i
     std::unique_ptr<Accelerator> accel;
     time_builds(ctx, spec, row, accel);
     row.memory_bytes = accel->memory_bytes();
+    row.input_memory_bytes = accel->input_memory_bytes(ctx.scene);
     row.build_statistics = accel->build_statistics();
     ctx.progress.step("validating and checking against the reference");
     row.validate_problems = accel->validate();
@@ -216,8 +278,39 @@ StructureResult measure(const SceneContext& ctx, const std::string& spec, bool i
   return row;
 }
 
+/// Embree is measured before and after rayaccel's structures, so that a drift in the machine's speed during the
+/// run favours neither side; its row pools the samples of both measurements.
+void pool_measurements(StructureResult& row, const StructureResult& again) {
+  if (!again.failure.empty() || !row.failure.empty()) {
+    if (row.failure.empty()) row.failure = again.failure;
+    return;
+  }
+  row.build_ms.insert(row.build_ms.end(), again.build_ms.begin(), again.build_ms.end());
+  row.build_ms_median = median(row.build_ms);
+  for (std::size_t k = 0; k < row.kinds.size(); ++k) {
+    KindResult& kind = row.kinds[k];
+    kind.trace_ms.insert(kind.trace_ms.end(), again.kinds[k].trace_ms.begin(), again.kinds[k].trace_ms.end());
+    kind.mrays_s_median = mrays_per_second(kind.rays, kind.trace_ms);
+  }
+}
+
+/// Median time to prepare the scene from its mesh (per-primitive vertices, bounds and validity), the work Embree
+/// does inside its build: rayaccel's structures get it added to their build times, so both sides count it.
+double scene_preparation_ms(const Scene& scene) {
+  if (scene.kind() != PrimitiveKind::triangles || scene.borrows_buffers()) return 0.0;
+  std::vector<double> samples;
+  for (int i = 0; i < kTimedBuilds; ++i) {
+    TriangleMesh copy = scene.mesh();
+    const Stopwatch clock;
+    const Scene prepared = Scene::from_mesh(std::move(copy), scene.name());
+    samples.push_back(clock.milliseconds());
+  }
+  return median(samples);
+}
+
 SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::string>& specs,
-                        const std::vector<RayKind>& kinds, const BenchArgs& args, Progress& progress) {
+                        const std::vector<RayKind>& kinds, const BenchArgs& args, Progress& progress,
+                        std::vector<PendingHeatMap>& heat_maps) {
   progress.stage("loading " + scene_spec);
   const Scene scene = load_scene_checked(scene_spec);
   const Camera camera = default_camera(scene_spec, scene);
@@ -262,6 +355,11 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
       case RayKind::shadow:
         w.rays = shadow_rays(scene, primary, primary_hits, kShadowDistanceFraction * diagonal, kShadowSeed);
         break;
+      case RayKind::occlusion:
+        w.rays = shadow_rays(scene, primary, primary_hits, kOcclusionDistanceFraction * diagonal, kOcclusionSeed,
+                             OriginOffset{kFixedOffsetFraction * diagonal});
+        break;
+      case RayKind::light: w.rays = light_rays(scene, primary, primary_hits, light_position(scene, camera)); break;
       case RayKind::packet:
         for (const std::size_t i : packet_tile_order(args.resolution, args.resolution)) w.rays.push_back(primary[i]);
         break;
@@ -279,16 +377,23 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
   report.threads = threads;
   report.resolution = args.resolution;
   report.reference = check.description();
-  const SceneContext ctx{scene, camera, workloads, check, args, threads, progress};
-  const std::size_t count = specs.size() + (compare_embree && embree ? 1 : 0);
-  if (compare_embree && embree) report.rows.push_back(measure(ctx, "embree", true, 1, count));
-  for (const auto& spec : specs) report.rows.push_back(measure(ctx, spec, false, report.rows.size() + 1, count));
+  report.scene_preparation_ms = scene_preparation_ms(scene);
+  const SceneContext ctx{scene, camera, workloads, check, args, threads, progress, heat_maps,
+                         report.scene_preparation_ms};
+  const bool embree_row = compare_embree && embree;
+  const std::size_t count = specs.size() + (embree_row ? 2 : 0);
+  if (embree_row) report.rows.push_back(measure(ctx, "embree", true, 1, count));
+  for (const auto& spec : specs) {
+    report.rows.push_back(measure(ctx, spec, is_embree_spec(spec), report.rows.size() + 1, count));
+  }
+  if (embree_row) pool_measurements(report.rows.front(), measure(ctx, "embree", true, count, count));
   progress.done();
   return report;
 }
 
-int run_bench(BenchArgs args, bool threads_given) {
+int run_bench(BenchArgs args, bool threads_given, bool heat_max_given) {
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
+  if (heat_max_given) require_heat_max(args.heat_max);
   require_range(args.resolution, 1, 8192, "--res");
   require_range(args.repeat, 1, 1000000, "--repeat");
   const std::vector<RayKind> kinds = parse_kinds(args.rays);
@@ -309,20 +414,33 @@ int run_bench(BenchArgs args, bool threads_given) {
       throw UsageError("scene file '" + scene + "' does not exist (or is not a file)");
     }
   }
-  if (!args.images.empty()) std::filesystem::create_directories(args.images);
+  if (!args.images.empty()) {
+    const std::size_t frame_bytes = static_cast<std::size_t>(args.resolution) * args.resolution *
+                                    kSharedHeatBytesPerPixel * specs.size() * args.scenes.size();
+    if (args.heat_max == 0 && frame_bytes > kHeatFrameBudgetBytes) {
+      throw UsageError(fmt::format(
+          "--images: one colour scale for {} heat maps of {}x{} means holding {:.1f} GiB until the end of the run; "
+          "pass --heat-max to draw each heat map on a fixed scale as it is rendered",
+          specs.size() * args.scenes.size(), args.resolution, args.resolution,
+          static_cast<double>(frame_bytes) / static_cast<double>(std::size_t{1} << 30)));
+    }
+    std::filesystem::create_directories(args.images);
+  }
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   Progress progress;
   nlohmann::json scenes = nlohmann::json::array();
   std::vector<std::string> failures;
+  std::vector<PendingHeatMap> heat_maps;
   for (const auto& scene_spec : args.scenes) {
-    const SceneReport report = bench_scene(scene_spec, specs, kinds, args, progress);
+    const SceneReport report = bench_scene(scene_spec, specs, kinds, args, progress, heat_maps);
     print_table(report);
     scenes.push_back(to_json(report));
     for (const auto& row : report.rows) {
       if (row.failed()) failures.push_back(report.name + "/" + row.spec);
     }
   }
+  write_shared_heat_maps(heat_maps, progress);
   if (!args.json.empty()) {
     std::ofstream out(args.json);
     out << nlohmann::json{{"threads", ThreadLimit::active()}, {"scenes", scenes}}.dump(2) << "\n";
@@ -352,15 +470,23 @@ Command add_bench_command(CLI::App& root) {
   app->add_option("--repeat", args->repeat, "Timed passes per ray kind (median reported)")->capture_default_str();
   app->add_option("--compare", args->compare, "Add a measured row for another library: embree");
   app->add_option("--json", args->json, "Write every figure to this JSON file");
-  app->add_option("--images", args->images, "Render normals and heat-map PNGs per structure into this directory");
+  app->add_option("--images", args->images,
+                  "Render normals and heat-map PNGs per structure into this directory (every heat map of the run on "
+                  "one colour scale, written at the end, unless --heat-max is given)");
+  CLI::Option* heat_max = app->add_option("--heat-max", args->heat_max, kHeatMaxHelp);
   app->footer(
       "Ray kinds: primary = one camera ray per pixel, row by row; diffuse = a cosine-weighted bounce from each\n"
-      "primary hit; shadow = a short ambient-occlusion ray from each primary hit (any hit); packet = the primary\n"
+      "primary hit; shadow = an ambient-occlusion ray of 0.1 scene diagonals from each primary hit (any hit),\n"
+      "starting at pbrt's conservative offset; occlusion = the same of 0.25 diagonals, starting 1e-4 diagonals off\n"
+      "the surface along the normal (the fixed epsilon many renderers use); light = a shadow ray from each primary\n"
+      "hit to a point light above the scene's center (any hit); packet = the primary\n"
       "rays reordered into 4x2 pixel tiles (tiles left to right, then top to bottom; when N is not a multiple of\n"
       "4, the pixels no whole tile covers follow in row order), each run of eight traced together with\n"
       "intersect_packets() (one by one by structures without a packet traversal; Embree: rtcIntersect8). Packet\n"
-      "rays have no nodes/prims column: packet traversals take no statistics.");
-  return {app, [args, threads] { return run_bench(*args, threads->count() > 0); }};
+      "rays have no nodes/prims column: packet traversals take no statistics.\n"
+      "Memory: 'memory MB' is the structure's own data; 'with input MB' adds the input its queries read (the\n"
+      "scene's arrays for rayaccel's structures; for Embree, the vertex and index buffers it was handed).");
+  return {app, [args, threads, heat_max] { return run_bench(*args, threads->count() > 0, heat_max->count() > 0); }};
 }
 
 }  // namespace rayaccel::cli

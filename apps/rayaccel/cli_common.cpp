@@ -85,6 +85,15 @@ void require_range(long long value, long long low, long long high, std::string_v
   }
 }
 
+void require_heat_max(std::uint64_t value) {
+  constexpr std::uint64_t kLargest = std::uint64_t{1} << 53;  // costs are compared as doubles
+  if (value < 1 || value > kLargest) {
+    throw UsageError("--heat-max: " + std::to_string(value) + " is out of range [1, " + std::to_string(kLargest) + "]");
+  }
+}
+
+CostRange fixed_heat_scale(std::uint64_t max) { return CostRange{0, max, max}; }
+
 ThreadLimit::ThreadLimit(int threads) {
   if (threads > 0) {
     control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -164,9 +173,41 @@ Camera default_camera(std::string_view spec, const Scene& scene) {
   return Camera::framing(box);
 }
 
+bool is_embree_spec(std::string_view spec) { return spec == "embree" || spec.starts_with("embree:"); }
+
+#ifdef RAYACCEL_HAVE_EMBREE
+namespace {
+
+/// "embree" or "embree:quality=low|medium|high,robust=0|1": Embree's build quality and RTC_SCENE_FLAG_ROBUST.
+EmbreeOptions parse_embree_spec(std::string_view spec) {
+  EmbreeOptions options;
+  if (spec == "embree") return options;
+  for (const std::string& item : split_list(spec.substr(std::string_view("embree:").size()))) {
+    const std::size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    if (key == "quality" && (value == "low" || value == "medium" || value == "high")) {
+      options.quality = value == "low"      ? EmbreeBuildQuality::low
+                        : value == "medium" ? EmbreeBuildQuality::medium
+                                            : EmbreeBuildQuality::high;
+    } else if (key == "robust" && (value == "0" || value == "1" || value == "true" || value == "false")) {
+      options.robust = value == "1" || value == "true";
+    } else {
+      throw UsageError("--accel: '" + item + "' in '" + std::string(spec) +
+                       "' is not an Embree option (known: quality=low|medium|high, robust=0|1)");
+    }
+  }
+  return options;
+}
+
+}  // namespace
+#endif
+
 void check_accelerator_spec(std::string_view spec) {
 #ifdef RAYACCEL_HAVE_EMBREE
-  if (spec == "embree") return;
+  if (is_embree_spec(spec)) {
+    parse_embree_spec(spec);
+    return;
+  }
 #endif
   try {
     make_accelerator(spec);  // parses, resolves options and runs the structure's own checks; builds nothing
@@ -179,11 +220,11 @@ void check_accelerator_spec(std::string_view spec) {
 
 std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads) {
 #ifdef RAYACCEL_HAVE_EMBREE
-  if (spec == "embree") {
-    EmbreeOptions options;
+  if (is_embree_spec(spec)) {
+    EmbreeOptions options = parse_embree_spec(spec);
     options.threads = threads;
     auto embree = std::make_unique<EmbreeAccelerator>(options);
-    embree->set_spec("embree");
+    embree->set_spec(std::string(spec));
     return embree;
   }
 #endif

@@ -16,6 +16,7 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/scene.h"
 #include "rayaccel/render/camera.h"
+#include "rayaccel/render/heatmap.h"
 
 namespace rayaccel::cli {
 
@@ -36,6 +37,14 @@ std::pair<int, int> parse_resolution(std::string_view text, std::string_view wha
 std::vector<std::string> split_list(std::string_view text);
 /// Throws UsageError unless low <= value <= high.
 void require_range(long long value, long long low, long long high, std::string_view what);
+
+/// --heat-max, shared by render and bench: its help text, its check (1 <= value <= 2^53) and the scale it sets.
+inline constexpr const char* kHeatMaxHelp =
+    "Heat maps: cost (nodes + primitives per ray) at the top of the colour scale, whose bottom is then 0; costs "
+    "above it get the top colour (default: render scales each image from its cheapest ray to its 99th percentile; "
+    "bench puts every heat map of the run on one such scale)";
+void require_heat_max(std::uint64_t value);
+CostRange fixed_heat_scale(std::uint64_t max);
 
 /// Limits TBB (and so every build and batch) to `threads` workers for its lifetime; 0 keeps TBB's default.
 class ThreadLimit {
@@ -87,7 +96,9 @@ Scene load_scene_checked(std::string_view spec);
 /// The MANIFEST camera of a shared scene file, else a camera framing the scene's bounds.
 Camera default_camera(std::string_view spec, const Scene& scene);
 
-/// Checks an accelerator spec ("embree" included when compiled in) without building; throws UsageError naming it.
+/// "embree" or "embree:quality=low|medium|high,robust=0|1" (Embree's rows; accepted only when it is compiled in).
+bool is_embree_spec(std::string_view spec);
+/// Checks an accelerator spec (Embree's included when compiled in) without building; throws UsageError naming it.
 void check_accelerator_spec(std::string_view spec);
 /// Creates an accelerator from a spec; "embree" gives the Embree comparison wrapper with `threads` workers.
 std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads);

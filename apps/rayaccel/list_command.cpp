@@ -42,7 +42,8 @@ void print_structures() {
   fmt::print("\nSpec syntax: NAME or NAME:key=value,key=value (e.g. --accel '{}')\n",
              accelerator_variant_names().back());
 #ifdef RAYACCEL_HAVE_EMBREE
-  fmt::print("Comparison: 'bench --compare embree' and '--accel embree' use Embree 3 (found at build time)\n");
+  fmt::print("Comparison: 'bench --compare embree' and '--accel embree' use Embree 3 (found at build time); "
+             "'--accel embree:quality=high,robust=1' adds rows for its other build qualities and its robust mode\n");
 #else
   fmt::print("Comparison: Embree was not found at build time; 'bench --compare embree' is unavailable\n");
 #endif

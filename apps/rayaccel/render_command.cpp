@@ -23,10 +23,12 @@ struct RenderArgs {
   std::string mode = "normals";
   std::string out = "render.png";
   int threads = 0;
+  std::uint64_t heat_max = 0;
 };
 
-int run_render(const RenderArgs& args, bool fov_given, bool threads_given) {
+int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool heat_max_given) {
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
+  if (heat_max_given) require_heat_max(args.heat_max);
   const auto [width, height] = parse_resolution(args.resolution, "--res");
   ShadingMode mode;
   try {
@@ -66,6 +68,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given) {
   settings.width = width;
   settings.height = height;
   settings.mode = mode;
+  if (heat_max_given) settings.heat_scale = fixed_heat_scale(args.heat_max);
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
   const RenderResult result = render(*accel, scene, camera, settings);
@@ -95,7 +98,10 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--mode", args->mode, "normals, ao or heatmap")->capture_default_str();
   app->add_option("--out", args->out, "Output PNG file")->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads (>= 1)");
-  return {app, [args, fov, threads] { return run_render(*args, fov->count() > 0, threads->count() > 0); }};
+  CLI::Option* heat_max = app->add_option("--heat-max", args->heat_max, kHeatMaxHelp);
+  return {app, [args, fov, threads, heat_max] {
+            return run_render(*args, fov->count() > 0, threads->count() > 0, heat_max->count() > 0);
+          }};
 }
 
 }  // namespace rayaccel::cli

@@ -95,6 +95,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       {"hit_count", hit_count},
       {"memory_bytes", accel->memory_bytes()},
       {"scene_memory_bytes", scene.memory_bytes()},
+      {"input_memory_bytes", accel->input_memory_bytes(scene)},
   };
   if (!args.out.empty()) summary["out"] = args.out;
   fmt::print("{}\n", summary.dump());

@@ -11,7 +11,7 @@ import re
 import sys
 from pathlib import Path
 
-KIND_ORDER = ("primary", "diffuse", "shadow", "packet")
+KIND_ORDER = ("primary", "diffuse", "shadow", "occlusion", "light", "packet")
 
 
 def _pyplot():

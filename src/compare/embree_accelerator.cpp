@@ -1,4 +1,5 @@
-// EmbreeAccelerator: one Embree device and scene over the Scene's shared index buffer and a padded vertex copy;
+// EmbreeAccelerator: one Embree device and scene over a padded vertex copy and an index buffer of the valid
+// triangles (the ones rayaccel's structures build over; Embree's primitive ids are mapped back to the scene's);
 // rays are mapped to RTCRay (or a lane of RTCRayHit8) with tnear just above t_min so Embree's [tnear, tfar] matches
 // (t_min, t_max].
 #include "rayaccel/compare/embree_accelerator.h"
@@ -9,12 +10,14 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/float_rounding.h"
 
 namespace rayaccel {
 
@@ -24,6 +27,8 @@ struct EmbreeAccelerator::State {
   RTCScene scene = nullptr;
   const Scene* source = nullptr;
   std::vector<float> vertices;  ///< x y z per vertex plus 4 bytes of padding Embree may read past the last one
+  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< the valid triangles, in id order
+  std::vector<std::uint32_t> prim_ids;                  ///< scene id of each of them (Embree's primID -> ours)
   std::atomic<std::int64_t> allocated{0};  ///< bytes Embree holds now (memory monitor)
   std::int64_t scene_bytes = 0;            ///< bytes the committed scene kept
   std::string last_error;
@@ -45,8 +50,9 @@ RTCBuildQuality to_embree(EmbreeBuildQuality quality) {
   return RTC_BUILD_QUALITY_MEDIUM;
 }
 
-/// Embree accepts tnear <= t <= tfar; the next float above t_min turns that into t_min < t.
-float embree_tnear(const Ray& ray) { return std::nextafter(ray.t_min, std::numeric_limits<float>::infinity()); }
+/// Embree accepts tnear <= t <= tfar; the next float above t_min turns that into t_min < t (the same inline helper
+/// rayaccel's own Hit::begin() uses, so neither side pays a libm call per ray).
+float embree_tnear(const Ray& ray) { return next_float_up(ray.t_min); }
 
 /// Fills an RTCRay from a ray that is not void with t_min < t_max.
 void to_embree(const Ray& ray, RTCRay& out) {
@@ -128,6 +134,13 @@ void EmbreeAccelerator::build(const Scene& scene) {
   s.source = &scene;
   s.last_error.clear();
   const TriangleMesh& mesh = scene.mesh();
+  s.triangles.clear();
+  s.prim_ids.clear();
+  for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
+    if (!scene.is_valid(id)) continue;
+    s.triangles.push_back(mesh.triangles[id]);
+    s.prim_ids.push_back(id);
+  }
   s.vertices.assign(mesh.vertices.size() * 3 + 1, 0.0f);
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     s.vertices[3 * i] = mesh.vertices[i].x;
@@ -137,12 +150,13 @@ void EmbreeAccelerator::build(const Scene& scene) {
   const std::int64_t before = s.allocated.load();
   s.scene = rtcNewScene(s.device);
   rtcSetSceneBuildQuality(s.scene, to_embree(s.options.quality));
-  if (!mesh.triangles.empty()) {
+  if (s.options.robust) rtcSetSceneFlags(s.scene, RTC_SCENE_FLAG_ROBUST);
+  if (!s.triangles.empty()) {
     RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.vertices.data(), 0,
                                3 * sizeof(float), mesh.vertices.size());
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
-                               sizeof(mesh.triangles[0]), mesh.triangles.size());
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, s.triangles.data(), 0,
+                               sizeof(s.triangles[0]), s.triangles.size());
     rtcSetGeometryBuildQuality(geometry, to_embree(s.options.quality));
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(s.scene, geometry);
@@ -185,7 +199,7 @@ Hit EmbreeAccelerator::intersect(const Ray& ray) const {
   rtcIntersect1(state_->scene, &context, &query);
   if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
     hit.t = query.ray.tfar;
-    hit.prim_id = query.hit.primID;
+    hit.prim_id = state_->prim_ids[query.hit.primID];
     hit.u = query.hit.u;
     hit.v = query.hit.v;
   }
@@ -244,7 +258,7 @@ void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<H
         if (valid[lane] == 0 || query.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
         Hit& hit = hits[first + lane];
         hit.t = query.ray.tfar[lane];
-        hit.prim_id = query.hit.primID[lane];
+        hit.prim_id = state_->prim_ids[query.hit.primID[lane]];
         hit.u = query.hit.u[lane];
         hit.v = query.hit.v[lane];
       }
@@ -265,9 +279,16 @@ std::size_t EmbreeAccelerator::memory_bytes() const {
   return state_->scene_bytes > 0 ? static_cast<std::size_t>(state_->scene_bytes) : 0;
 }
 
+std::size_t EmbreeAccelerator::input_memory_bytes(const Scene& scene) const {
+  (void)scene;  // Embree reads only its own copies; the id map back to the scene's ids is the bench's, not Embree's
+  return state_->vertices.size() * sizeof(float) + state_->triangles.size() * sizeof(state_->triangles[0]);
+}
+
 std::vector<BuildStatistic> EmbreeAccelerator::build_statistics() const {
   return {{"threads", static_cast<double>(state_->options.threads)},
-          {"build_quality", static_cast<double>(to_embree(state_->options.quality))}};
+          {"build_quality", static_cast<double>(to_embree(state_->options.quality))},
+          {"robust", state_->options.robust ? 1.0 : 0.0},
+          {"triangles", static_cast<double>(state_->triangles.size())}};
 }
 
 std::vector<std::string> EmbreeAccelerator::validate() const {

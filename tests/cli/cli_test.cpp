@@ -14,9 +14,15 @@
 #include "cli_runner.h"
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/render/colormap.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ray_io.h"
 #include "rayaccel/version.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#include <stb/stb_image.h>  // the implementation is compiled in renderer_test.cpp
+#pragma GCC diagnostic pop
 
 namespace rayaccel {
 namespace {
@@ -255,6 +261,8 @@ TEST(CliErrors, BadArgumentsNameTheValue) {
       {{"bench", ply, "--rays", "primary,cosmic"}, "cosmic", 2},
       {{"bench", ply, "--accel", "brute_force,nope"}, "nope", 2},
       {{"bench", ply, "--compare", "optix"}, "optix", 2},
+      {{"bench", ply, "--heat-max", "0"}, "--heat-max", 2},
+      {{"render", ply, "--heat-max", "0"}, "--heat-max", 2},
       {{"frobnicate"}, "frobnicate", 2},
   };
   for (const auto& bad : cases) {
@@ -300,8 +308,9 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   EXPECT_NE(result.out.find("brute_force"), std::string::npos) << result.out;
   // The default ray kinds, in the table's order: Mrays/s per kind, then nodes/prims per kind except packet.
   std::size_t at = 0;
-  for (const char* column : {"primary Mrays/s", "diffuse Mrays/s", "shadow Mrays/s", "packet Mrays/s",
-                             "primary nodes/prims", "diffuse nodes/prims", "shadow nodes/prims", "mismatches"}) {
+  for (const char* column : {"primary Mrays/s", "diffuse Mrays/s", "shadow Mrays/s", "occlusion Mrays/s",
+                             "light Mrays/s", "packet Mrays/s", "primary nodes/prims", "diffuse nodes/prims",
+                             "shadow nodes/prims", "occlusion nodes/prims", "light nodes/prims", "mismatches"}) {
     const std::size_t found = result.out.find(column, at);
     ASSERT_NE(found, std::string::npos) << column << " after column " << at << " in\n" << result.out;
     at = found;
@@ -311,7 +320,7 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   const auto& rows = report["scenes"][0]["results"];
   bool saw_brute_force = false;
   for (const auto& row : rows) {
-    EXPECT_EQ(row["rays"].size(), 4u) << row.dump();
+    EXPECT_EQ(row["rays"].size(), 6u) << row.dump();
     if (row["accel"] != "brute_force") continue;
     saw_brute_force = true;
     EXPECT_EQ(row["mismatches"], 0);
@@ -327,12 +336,77 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
     EXPECT_FALSE(row["rays"]["packet"].contains("nodes_per_ray")) << "packet traversals take no statistics";
   }
   EXPECT_TRUE(saw_brute_force);
+  // Memory on the same terms for every row: the structure's own bytes, and the input its queries read.
+  const Scene scene = load_scene(c.ply.string());
+  for (const auto& row : rows) {
+    if (row["accel"] == "brute_force") EXPECT_EQ(row["input_memory_bytes"], scene.memory_bytes());
+    if (row["accel"] == "embree") {  // Embree's padded vertex copy and the index buffer of the valid triangles
+      ASSERT_LT(scene.valid_count(), scene.primitive_count()) << "the case should hold an invalid triangle";
+      EXPECT_EQ(row["input_memory_bytes"], (3 * scene.mesh().vertices.size() + 1) * sizeof(float) +
+                                               scene.valid_count() * 3 * sizeof(std::uint32_t));
+      EXPECT_GT(row["memory_bytes"].get<std::size_t>(), 0u);
+    }
+  }
+  EXPECT_NE(result.out.find("with input MB"), std::string::npos) << result.out;
 #ifdef RAYACCEL_HAVE_EMBREE
   EXPECT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0]["accel"], "embree");
 #endif
   EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_normals.png"));
   EXPECT_TRUE(std::filesystem::exists(images / "small_brute_force_heatmap.png"));
+}
+
+/// The pixels of a PNG file, row by row.
+std::vector<Rgb> read_png(const std::filesystem::path& path) {
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* data = stbi_load(path.string().c_str(), &w, &h, &channels, 3);
+  if (data == nullptr) return {};
+  std::vector<Rgb> pixels(static_cast<std::size_t>(w) * h);
+  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = {data[3 * i], data[3 * i + 1], data[3 * i + 2]};
+  stbi_image_free(data);
+  return pixels;
+}
+
+TEST(CliBench, HeatMapsOfOneRunShareOneColourScale) {
+  const SmallCase c = make_small_case();
+  const auto heat_map = [&](const std::string& accel, const std::string& dir, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"bench", c.ply.string(), "--accel", accel, "--res", "16", "--rays", "primary",
+                                     "--repeat", "1", "--images", (c.dir / dir).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto result = run_cli(args);
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    return read_png(c.dir / dir / "small_brute_force_heatmap.png");
+  };
+  // Alone, brute force's rays all cost the same: its own scale is one value and its misses show the middle of the
+  // ramp (hits are darkened by their angle).
+  const std::vector<Rgb> alone = heat_map("brute_force", "alone", {});
+  ASSERT_EQ(alone.size(), 256u);
+  std::vector<std::size_t> misses;
+  for (std::size_t i = 0; i < alone.size(); ++i) {
+    if (alone[i] == heat_colour(0.5f)) misses.push_back(i);
+  }
+  ASSERT_FALSE(misses.empty());
+  // Beside a BVH, whose rays cost less, the run's one scale places brute force elsewhere on the ramp.
+  const std::vector<Rgb> shared = heat_map("brute_force,bvh", "shared", {});
+  ASSERT_EQ(shared.size(), 256u);
+  EXPECT_TRUE(std::filesystem::exists(c.dir / "shared" / "small_bvh_heatmap.png"));
+  for (const std::size_t i : misses) {
+    EXPECT_EQ(shared[i], shared[misses.front()]) << i;
+    EXPECT_NE(shared[i], heat_colour(0.5f)) << i;
+  }
+  // --heat-max 1 puts every cost of 1 or more at the top of the ramp.
+  const std::vector<Rgb> fixed = heat_map("brute_force", "fixed", {"--heat-max", "1"});
+  ASSERT_EQ(fixed.size(), 256u);
+  for (const std::size_t i : misses) EXPECT_EQ(fixed[i], heat_colour(1.0f)) << i;
+}
+
+TEST(CliBench, TooManyHeatMapsForOneScaleAskForHeatMaxBeforeWorking) {
+  const SmallCase c = make_small_case();
+  const auto images = c.dir / "big_images";
+  const auto result = run_cli({"bench", c.ply.string(), "--accel", "all", "--res", "8192", "--images", images.string()});
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_NE(result.err.find("--heat-max"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(images));
 }
 
 TEST(CliBench, PacketRaysAloneAreTracedAndChecked) {

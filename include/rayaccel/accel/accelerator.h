@@ -57,6 +57,10 @@ class Accelerator {
 
   /// Bytes of the structure's own data (the scene's arrays are not counted).
   virtual std::size_t memory_bytes() const = 0;
+  /// Bytes of input that queries read besides memory_bytes(), for `scene` (the one built over): the Scene's
+  /// arrays for rayaccel's structures; for a wrapped library, the geometry buffers it was handed. The sum of the
+  /// two is what answering queries holds, and compares libraries on the same terms.
+  virtual std::size_t input_memory_bytes(const Scene& scene) const { return scene.memory_bytes(); }
   /// Figures about the last build; may be empty.
   virtual std::vector<BuildStatistic> build_statistics() const { return {}; }
   /// Checks the structure's invariants; returns one line per violation (empty when valid).

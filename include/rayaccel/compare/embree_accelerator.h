@@ -22,6 +22,7 @@ enum class EmbreeBuildQuality { low, medium, high };
 struct EmbreeOptions {
   int threads = 0;                                          ///< Embree worker threads; 0 = Embree's default
   EmbreeBuildQuality quality = EmbreeBuildQuality::medium;  ///< RTC_BUILD_QUALITY_*; medium is Embree's default
+  bool robust = false;  ///< RTC_SCENE_FLAG_ROBUST: Embree's watertight mode, the closest to rayaccel's guarantees
 };
 
 /// Embree over a triangle scene. Hits follow this library's rules: t_min < t <= t_max, a miss is {t = +inf,
@@ -55,6 +56,8 @@ class EmbreeAccelerator final : public Accelerator {
 
   /// Bytes Embree allocated for the committed scene, as reported by its device memory monitor.
   std::size_t memory_bytes() const override;
+  /// Embree's geometry buffers: the padded vertex copy and the index buffer of the valid triangles.
+  std::size_t input_memory_bytes(const Scene& scene) const override;
   std::vector<BuildStatistic> build_statistics() const override;
   std::vector<std::string> validate() const override;
 

@@ -1,0 +1,137 @@
+// Tests of the bench's reference check (apps/rayaccel/bench_check.cpp): an honest structure passes, and
+// deliberately wrong ones fail it: another primitive at a nearly equal t, a hit/miss flip, and t, u, v that are
+// not the kernel's. With and without Embree as the reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "bench.h"
+#include "rayaccel/accel/brute_force.h"
+#include "rayaccel/compare/embree_accelerator.h"
+
+namespace rayaccel::cli {
+namespace {
+
+/// Brute force's answers passed through `corrupt` (ray index, hit): a structure that is wrong on purpose.
+class CorruptedBruteForce final : public Accelerator {
+ public:
+  explicit CorruptedBruteForce(std::function<void(const Ray&, Hit&)> corrupt) : corrupt_(std::move(corrupt)) {}
+  void build(const Scene& scene) override { oracle_.build(scene); }
+  Hit intersect(const Ray& ray) const override {
+    Hit h = oracle_.intersect(ray);
+    corrupt_(ray, h);
+    return h;
+  }
+  Hit intersect(const Ray& ray, TraversalStats&) const override { return intersect(ray); }
+  bool occluded(const Ray& ray) const override { return oracle_.occluded(ray); }
+  bool occluded(const Ray& ray, TraversalStats&) const override { return occluded(ray); }
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<TraversalStats>) const override {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = intersect(rays[i]);
+  }
+  void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out, std::span<TraversalStats>) const override {
+    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
+  }
+  std::size_t memory_bytes() const override { return 0; }
+  std::vector<std::string> validate() const override { return {}; }
+
+ private:
+  BruteForce oracle_;
+  std::function<void(const Ray&, Hit&)> corrupt_;
+};
+
+/// Two parallel unit squares facing the rays, at z = 0 (prims 0, 1) and z = -0.00005 (prims 2, 3): from z = 1 the
+/// farther one is hit at a t within 1e-4 relative of the nearer one, the tolerance the old check accepted.
+Scene two_close_layers() {
+  TriangleMesh mesh;
+  for (const float z : {0.0f, -0.00005f}) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), {{-1, -1, z}, {1, -1, z}, {1, 1, z}, {-1, 1, z}});
+    mesh.triangles.push_back({base, base + 1, base + 2});
+    mesh.triangles.push_back({base, base + 2, base + 3});
+  }
+  return Scene::from_mesh(std::move(mesh), "layers");
+}
+
+std::vector<Workload> straight_down_rays() {
+  Workload w;
+  w.kind = RayKind::primary;
+  for (int i = 0; i < 64; ++i) {
+    const float x = -0.9f + 1.8f * static_cast<float>(i % 8) / 7.0f + 0.001f;
+    const float y = -0.9f + 1.8f * static_cast<float>(i / 8) / 7.0f;
+    w.rays.push_back({{x, y, 1.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 10.0f});
+  }
+  return {w};
+}
+
+/// Mismatches the check finds in `accel` on the straight-down rays, with Embree as the reference when `embree`.
+std::size_t mismatches(const Accelerator& accel, const Scene& scene, const std::vector<Workload>& workloads,
+                       const Accelerator* embree) {
+  const ReferenceCheck check(scene, workloads, embree, 2000);
+  std::vector<KindResult> kinds(workloads.size());
+  check.check(accel, kinds);
+  return kinds[0].mismatches;
+}
+
+void expect_check_catches_wrong_structures(const Accelerator* embree) {
+  const Scene scene = two_close_layers();
+  const std::vector<Workload> workloads = straight_down_rays();
+  const auto run = [&](std::function<void(const Ray&, Hit&)> corrupt) {
+    CorruptedBruteForce accel(std::move(corrupt));
+    accel.build(scene);
+    return mismatches(accel, scene, workloads, embree);
+  };
+  EXPECT_EQ(run([](const Ray&, Hit&) {}), 0u) << "an honest structure passes";
+  // The farther layer's triangle under the ray, with its own kernel t, u, v: 1e-4 relative t apart, not a tie.
+  EXPECT_EQ(run([&](const Ray& ray, Hit& h) {
+              const PreparedRay prepared(ray);
+              Hit farther = Hit::begin(prepared);
+              for (std::uint32_t prim : {2u, 3u}) scene.intersect(prim, prepared, farther);
+              h = farther;
+            }),
+            64u);
+  // A miss reported for one ray.
+  EXPECT_EQ(run([](const Ray& ray, Hit& h) {
+              if (ray.origin.x < -0.8f && ray.origin.y < -0.8f) h = Hit{};
+            }),
+            1u);
+  // The right primitive with u one ulp off, or t one ulp off: not the kernel's answer.
+  EXPECT_EQ(run([](const Ray&, Hit& h) { h.u = std::nextafter(h.u, 2.0f); }), 64u);
+  EXPECT_EQ(run([](const Ray&, Hit& h) { h.t = std::nextafter(h.t, 0.0f); }), 64u);
+}
+
+TEST(BenchCheck, CatchesWrongStructuresAgainstBruteForce) { expect_check_catches_wrong_structures(nullptr); }
+
+#ifdef RAYACCEL_HAVE_EMBREE
+TEST(BenchCheck, CatchesWrongStructuresAgainstEmbree) {
+  EmbreeAccelerator embree;
+  const Scene scene = two_close_layers();
+  embree.build(scene);
+  expect_check_catches_wrong_structures(&embree);
+}
+#endif
+
+TEST(BenchCheck, KernelFaultNamesWhatDiffers) {
+  const Scene scene = two_close_layers();
+  const Ray ray{{0.25f, 0.1f, 1.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 10.0f};
+  BruteForce oracle;
+  oracle.build(scene);
+  Hit h = oracle.intersect(ray);
+  ASSERT_TRUE(h.found());
+  EXPECT_EQ(kernel_fault(scene, ray, h), "");
+  EXPECT_EQ(kernel_fault(scene, ray, Hit{}), "");
+  Hit bad_miss;
+  bad_miss.t = 3.0f;
+  EXPECT_NE(kernel_fault(scene, ray, bad_miss), "");
+  Hit wrong_prim = h;
+  wrong_prim.prim_id = 99;
+  EXPECT_NE(kernel_fault(scene, ray, wrong_prim).find("99"), std::string::npos);
+  Hit not_hit = h;
+  not_hit.prim_id = h.prim_id ^ 1u;  // the other triangle of the same square: the ray misses it
+  EXPECT_NE(kernel_fault(scene, ray, not_hit).find("not hit"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rayaccel::cli
