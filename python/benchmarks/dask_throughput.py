@@ -91,7 +91,8 @@ def main():
         args.workers_now = workers
         r = run_cluster(args, rays, expected, int(np.count_nonzero(hits.hit)))
         results.append(r)
-        print(f"{workers} worker(s): send rays {r['send_s'] * 1e3:.0f} ms ({rays.nbytes / r['send_s'] / 1e6:.0f} MB/s), "
+        print(f"{workers} worker(s): send rays {r['send_s'] * 1e3:.0f} ms "
+              f"({rays.nbytes / r['send_s'] / 1e6:.0f} MB/s), "
               f"cold {r['cold_s'] * 1e3:.0f} ms, warm {r['warm_s'] * 1e3:.0f} ms = "
               f"{len(rays) / r['warm_s'] / 1e6:.2f} Mrays/s, kept on the workers {r['kept_s'] * 1e3:.0f} ms = "
               f"{len(rays) / r['kept_s'] / 1e6:.2f} Mrays/s ({len(rays) / r['kept_s'] / workers / 1e6:.2f} per worker)"

@@ -11,6 +11,8 @@ import os
 import threading
 import time
 
+from . import Accelerator
+
 _lock = threading.Lock()               # guards everything below; never held while building
 _entries = collections.OrderedDict()  # (token, spec) -> Accelerator, least recently used first
 _building = {}                        # (token, spec) -> Lock held by the one thread building it
@@ -35,7 +37,6 @@ def accelerator(source, spec, rays=0):
                 _entries.move_to_end(key)
                 return _entries[key]
         try:
-            from . import Accelerator
             start = time.perf_counter()
             accel = Accelerator(spec)
             accel.build(source.scene())

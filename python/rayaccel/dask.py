@@ -23,7 +23,7 @@ except ImportError as error:  # pragma: no cover - depends on the installation
     raise ImportError("rayaccel.dask needs dask (Debian: apt-get install python3-dask python3-distributed)") \
         from error
 
-from . import Accelerator, Scene, builtin_scenes, mesh
+from . import Accelerator, Scene, builtin_scenes, load, mesh
 from ._cache import accelerator, cache_info, clear_cache, set_cache_size
 from ._rays import HIT_DTYPE
 
@@ -52,7 +52,6 @@ class SceneSource:
 
     def scene(self):
         """The Scene (on a worker: loaded from the file or built-in, or copied from the arrays)."""
-        from . import load
         if self.kind == "arrays":
             return mesh(*self.value, name="dask-arrays")
         return load(self.value)
