@@ -7,6 +7,7 @@ packages=(
   libgtest-dev libbenchmark-dev libembree-dev libgmp-dev
   python3 python3-numpy
   python3-dev pybind11-dev python3-pytest python3-matplotlib python3-pip python3-setuptools python3-wheel
+  python3-dask python3-distributed
 )
 missing=()
 for p in "${packages[@]}"; do

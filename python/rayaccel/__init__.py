@@ -5,7 +5,8 @@
     hits = accel.intersect(origins, directions)     # hits.t, hits.prim_id, hits.u, hits.v
     blocked = accel.occluded(rays)                  # bool array
 
-Batches run in C++ without the GIL on TBB's threads (rayaccel.set_threads(n) limits them). Scenes copy the arrays
+Batches run in C++ without the GIL on TBB's threads (rayaccel.set_threads(n) limits them). rayaccel.dask traces
+dask arrays of rays on any Dask scheduler (imported on first use; needs dask). Scenes copy the arrays
 they are made from once (the C++ Scene owns its geometry), so the input arrays may be changed or freed afterwards.
 """
 import contextlib
@@ -21,6 +22,14 @@ from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 __all__ = ["Accelerator", "Camera", "HIT_DTYPE", "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build",
            "builtin", "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "packet_tile_order", "render",
            "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads"]
+
+
+def __getattr__(name):
+    """rayaccel.dask on first use, so that `import rayaccel` alone needs no dask."""
+    if name == "dask":
+        import importlib
+        return importlib.import_module(".dask", __name__)
+    raise AttributeError(f"module 'rayaccel' has no attribute '{name}'")
 
 
 def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False, copy=True):
