@@ -1,14 +1,21 @@
-// `rayaccel render SCENE`: renders normals, ambient occlusion or a traversal-cost heat map through any structure
-// and writes a PNG. The default camera is the scene's MANIFEST camera, else one framing the scene's bounds.
+// `rayaccel render SCENE`: renders normals, ambient occlusion, a traversal-cost heat map, or a recursive (Whitted)
+// image with adaptive depth control and anti-aliasing, through any structure, and writes a PNG (and for whitted the
+// rays traced by kind, optionally as JSON, and the error against a reference image). The default camera is the
+// scene's MANIFEST camera, else one framing the scene's bounds.
 #include <fmt/core.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <string>
 
 #include "cli_common.h"
 #include "commands.h"
+#include "rayaccel/render/image_compare.h"
 #include "rayaccel/render/renderer.h"
+#include "rayaccel/render/whitted.h"
 
 namespace rayaccel::cli {
 
@@ -24,17 +31,115 @@ struct RenderArgs {
   std::string out = "render.png";
   int threads = 0;
   std::uint64_t heat_max = 0;
+  // whitted mode
+  int max_depth = 5;
+  float min_weight = 0.0f;
+  std::string aa = "uniform:n=1";
+  std::string shadows = "any";
+  float mirror = 0.0f;
+  int light_samples = 4;
+  std::string reference;
+  std::string json;
+  std::string spp_map;
 };
+
+/// The whitted mode's settings, checked before any work.
+struct WhittedArgs {
+  WhittedSettings settings;
+  AntiAliasing aa;
+  MaterialOptions materials;
+};
+
+WhittedArgs parse_whitted_args(const RenderArgs& args) {
+  WhittedArgs w;
+  w.settings.max_depth = args.max_depth;
+  w.settings.min_weight = args.min_weight;
+  if (args.shadows != "any" && args.shadows != "closest") {
+    throw UsageError("--shadows: '" + args.shadows + "' is not any or closest");
+  }
+  w.settings.any_hit_shadows = args.shadows == "any";
+  w.materials.mirror = args.mirror;
+  require_range(args.light_samples, 1, 4096, "--light-samples");
+  if (!(args.mirror >= 0.0f && args.mirror <= 1.0f)) {
+    throw UsageError(fmt::format("--mirror: {} is not in [0, 1]", args.mirror));
+  }
+  try {
+    check_settings(w.settings);
+    w.aa = parse_anti_aliasing(args.aa);
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+  return w;
+}
+
+/// Renders --mode whitted and prints (and writes with --json) the rays traced by kind.
+void render_whitted_mode(const RenderArgs& args, const WhittedArgs& w, const Accelerator& accel, const Scene& scene,
+                         const Camera& camera, int width, int height, double build_ms, Progress& progress) {
+  const SceneMaterials materials = default_materials(scene, w.materials);
+  const std::vector<Light> lights = default_lights(scene.bounds(), camera, args.light_samples);
+  WhittedSettings settings = w.settings;
+  settings.up = camera.up;
+  progress.stage(fmt::format("rendering {}x{} whitted, --aa {}", width, height, args.aa));
+  const WhittedResult result = render_whitted(accel, scene, camera, width, height, materials, lights, settings, w.aa,
+                                              [&progress](float f) { progress.update(f); });
+  result.image.save_png(args.out);
+  if (!args.spp_map.empty()) samples_per_pixel_image(result.samples).save_png(args.spp_map);
+  progress.done();
+  const RayCounts& c = result.counts;
+  const double pixels = static_cast<double>(width) * height;
+  nlohmann::json report = {{"scene", scene.name()},
+                           {"accel", accel.spec()},
+                           {"width", width},
+                           {"height", height},
+                           {"aa", args.aa},
+                           {"max_depth", settings.max_depth},
+                           {"min_weight", settings.min_weight},
+                           {"shadows", args.shadows},
+                           {"build_ms", build_ms},
+                           {"render_ms", result.milliseconds},
+                           {"camera_rays", c.camera},
+                           {"shadow_rays", c.shadow},
+                           {"reflection_rays", c.reflection},
+                           {"refraction_rays", c.refraction},
+                           {"rays", c.total()},
+                           {"rays_per_pixel", static_cast<double>(c.total()) / pixels},
+                           {"samples_per_pixel", static_cast<double>(result.samples.sample_count) / pixels},
+                           {"nodes_visited", c.nodes_visited},
+                           {"primitives_tested", c.primitives_tested}};
+  std::string error_text;
+  if (!args.reference.empty()) {
+    const ImageError e = compare_images(result.image, load_png(args.reference));
+    report["rmse"] = e.rmse;
+    report["psnr_db"] = std::isinf(e.psnr) ? nlohmann::json("inf") : nlohmann::json(e.psnr);
+    error_text = fmt::format(", RMSE {:.3f}, PSNR {:.2f} dB against {}", e.rmse, e.psnr, args.reference);
+  }
+  fmt::print("wrote {} ({}x{}, whitted, {}): build {:.2f} ms, render {:.2f} ms; rays: {} camera, {} shadow, {} "
+             "reflection, {} refraction ({:.2f} per pixel); {} nodes visited, {} primitive tests{}\n",
+             args.out, width, height, accel.spec(), build_ms, result.milliseconds, c.camera, c.shadow, c.reflection,
+             c.refraction, static_cast<double>(c.total()) / pixels, c.nodes_visited, c.primitives_tested, error_text);
+  if (!args.json.empty()) {
+    std::ofstream out(args.json);
+    out << report.dump(2) << "\n";
+    if (!out) throw Error("cannot write '" + args.json + "'");
+  }
+}
 
 int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool heat_max_given) {
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   if (heat_max_given) require_heat_max(args.heat_max);
   const auto [width, height] = parse_resolution(args.resolution, "--res");
-  ShadingMode mode;
-  try {
-    mode = parse_shading_mode(args.mode);
-  } catch (const Error& e) {
-    throw UsageError(std::string("--mode: ") + e.what());
+  const bool whitted = args.mode == "whitted";
+  ShadingMode mode = ShadingMode::normals;
+  WhittedArgs whitted_args;
+  if (whitted) {
+    whitted_args = parse_whitted_args(args);
+    if (!args.reference.empty()) load_png(args.reference);  // a bad reference fails before the work
+  } else {
+    try {
+      mode = parse_shading_mode(args.mode);
+    } catch (const Error& e) {
+      throw UsageError(std::string("--mode: ") + e.what() + " or whitted");
+    }
   }
   // Parse every camera value before loading anything, so a typo fails fast.
   const auto eye = args.eye.empty() ? std::optional<Vec3>() : parse_vec3(args.eye, "--eye");
@@ -64,6 +169,10 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   accel->build(scene);
   const double build_ms = build_clock.milliseconds();
 
+  if (whitted) {
+    render_whitted_mode(args, whitted_args, *accel, scene, camera, width, height, build_ms, progress);
+    return 0;
+  }
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
@@ -95,7 +204,25 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--up", args->up, "Up hint x,y,z");
   CLI::Option* fov = app->add_option("--fov", args->fov, "Full vertical field of view in degrees");
   app->add_option("--res", args->resolution, "Image size WxH")->capture_default_str();
-  app->add_option("--mode", args->mode, "normals, ao or heatmap")->capture_default_str();
+  app->add_option("--mode", args->mode, "normals, ao, heatmap or whitted (recursive: mirrors, glass, shadows)")
+      ->capture_default_str();
+  app->add_option("--max-depth", args->max_depth, "whitted: secondary rays per path at most")->capture_default_str();
+  app->add_option("--min-weight", args->min_weight,
+                  "whitted: a reflection or refraction ray whose weight in the pixel is below this is not traced "
+                  "(adaptive tree depth, Hall & Greenberg 1983; 0 = fixed depth)")
+      ->capture_default_str();
+  app->add_option("--aa", args->aa,
+                  "whitted: uniform:n=N (N x N sub-squares per pixel, corners shared) or "
+                  "adaptive:threshold=T,max_level=L (subdivide where the corners' contrast >= T)")
+      ->capture_default_str();
+  app->add_option("--shadows", args->shadows, "whitted: any (any-hit shadow rays) or closest")->capture_default_str();
+  app->add_option("--mirror", args->mirror, "whitted: mirror weight of a mesh file's surfaces, 0 to 1")
+      ->capture_default_str();
+  app->add_option("--light-samples", args->light_samples, "whitted: shadow rays per spherical light")
+      ->capture_default_str();
+  app->add_option("--reference", args->reference, "whitted: a PNG to measure the image's error (RMSE, PSNR) against");
+  app->add_option("--json", args->json, "whitted: write the rays traced by kind and the timings to this JSON file");
+  app->add_option("--spp-map", args->spp_map, "whitted: write a heat map of samples per pixel to this PNG");
   app->add_option("--out", args->out, "Output PNG file")->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads (>= 1)");
   CLI::Option* heat_max = app->add_option("--heat-max", args->heat_max, kHeatMaxHelp);

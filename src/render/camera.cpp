@@ -53,6 +53,15 @@ Ray CameraFrame::ray(int x, int y) const {
   return r;
 }
 
+Ray CameraFrame::ray_at(float x, float y) const {
+  const float sx = (2.0f * x / static_cast<float>(width) - 1.0f) * half_width;
+  const float sy = (1.0f - 2.0f * y / static_cast<float>(height)) * half_height;
+  Ray r;
+  r.origin = eye;
+  r.direction = normalize(forward + right * sx + up * sy);
+  return r;
+}
+
 Ray Camera::primary_ray(int x, int y, int width, int height) const { return frame(width, height).ray(x, y); }
 
 Camera Camera::framing(const AABB& box) {

@@ -51,7 +51,7 @@ int heat_legend_height(int width, int height) {
   return 3 * s + 8 * s + 2 * s + kGlyphHeight * s + 3 * s;  // margin, bar, gap, labels, margin
 }
 
-void draw_heat_legend(Image& image, const CostRange& range) {
+void draw_heat_legend(Image& image, const CostRange& range, const HeatCaption& caption) {
   const int s = legend_scale(image.width, image.height);
   const int margin = 3 * s;
   const int legend_height = heat_legend_height(image.width, image.height);
@@ -75,13 +75,13 @@ void draw_heat_legend(Image& image, const CostRange& range) {
   // The caption goes in the middle only when it leaves at least two glyphs of space to either label.
   const std::string most = ", MAX " + std::to_string(range.highest);
   const std::vector<std::string> captions =
-      clipped ? std::vector<std::string>{"COST = NODES+PRIMS" + most, "COST" + most, most.substr(2), "COST"}
-              : std::vector<std::string>{"COST = NODES+PRIMS", "COST"};
-  for (const std::string& caption : captions) {
-    const int w = text_width(caption, s);
+      clipped ? std::vector<std::string>{caption.full + most, caption.word + most, most.substr(2), caption.word}
+              : std::vector<std::string>{caption.full, caption.word};
+  for (const std::string& text : captions) {
+    const int w = text_width(text, s);
     const int x = bar_x + (bar_w - w) / 2;
     if (x >= bar_x + lo_w + 2 * kGlyphAdvance * s && x + w <= hi_x - 2 * kGlyphAdvance * s) {
-      draw_text(image, caption, x, label_y, s, kText);
+      draw_text(image, text, x, label_y, s, kText);
       break;
     }
   }
@@ -93,7 +93,7 @@ CostRange shared_cost_range(std::span<const HeatFrame* const> frames) {
   return cost_range(pooled);
 }
 
-Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale) {
+Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale, const HeatCaption& caption) {
   if (frame.cost.size() != static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) ||
       frame.brightness.size() != frame.cost.size()) {
     throw Error("heat frame: " + std::to_string(frame.cost.size()) + " costs and " +
@@ -113,7 +113,7 @@ Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale) {
   }
   CostRange legend = scale;
   legend.highest = frame.range.highest;
-  draw_heat_legend(image, legend);
+  draw_heat_legend(image, legend, caption);
   return image;
 }
 

@@ -92,6 +92,16 @@ Scene make_default(const Params& p) {
   return Scene::from_mesh(std::move(mesh), "default");
 }
 
+Scene make_glass(const Params& p) {
+  // A floor square (triangles 0 and 1, the layout default_materials() relies on) with a closed ball resting on it.
+  const float half = static_cast<float>(p.real("floor")) * 0.5f;
+  TriangleMesh mesh;
+  mesh.vertices = {{-half, 0.0f, -half}, {half, 0.0f, -half}, {half, 0.0f, half}, {-half, 0.0f, half}};
+  mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
+  procedural::append_mesh(mesh, procedural::icosphere(p.integer("level"), 1.0f), 1.0f, {0.0f, 1.0f, 0.0f});
+  return Scene::from_mesh(std::move(mesh), "glass");
+}
+
 const std::vector<SceneEntry>& scene_table() {
   static const std::vector<SceneEntry> table = {
       {"default",
@@ -140,6 +150,11 @@ const std::vector<SceneEntry>& scene_table() {
        [](const Params& p) {
          return Scene::from_mesh(procedural::soup(p.integer("count"), p.real("size"), p.seed()), "soup");
        }},
+      {"glass",
+       "a glass ball (subdivided icosahedron of radius 1, 20*4^level triangles) resting on a floor square; `render "
+       "--mode whitted` shades it as glass",
+       {{"level", "4", true, 0, 8}, {"floor", "8", false, 2.5, kHuge}},
+       make_glass},
       {"sphere",
        "closed watertight sphere: subdivided icosahedron with shared vertices, 20*4^level triangles",
        {{"level", "4", true, 0, 8}, {"radius", "1", false, kTiny, kHuge}},

@@ -263,6 +263,11 @@ TEST(CliErrors, BadArgumentsNameTheValue) {
       {{"bench", ply, "--compare", "optix"}, "optix", 2},
       {{"bench", ply, "--heat-max", "0"}, "--heat-max", 2},
       {{"render", ply, "--heat-max", "0"}, "--heat-max", 2},
+      {{"render", ply, "--mode", "whitted", "--aa", "uniform:n=3"}, "n=3", 2},
+      {{"render", ply, "--mode", "whitted", "--shadows", "some"}, "some", 2},
+      {{"render", ply, "--mode", "whitted", "--max-depth", "99"}, "99", 2},
+      {{"render", ply, "--mode", "whitted", "--mirror", "2"}, "--mirror", 2},
+      {{"render", ply, "--mode", "whitted", "--reference", (c.dir / "none.png").string()}, "none.png", 1},
       {{"frobnicate"}, "frobnicate", 2},
   };
   for (const auto& bad : cases) {
@@ -292,6 +297,34 @@ TEST(CliRender, WritesPng) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_TRUE(std::filesystem::exists(png));
   EXPECT_GT(std::filesystem::file_size(png), 0u);
+}
+
+TEST(CliRender, WhittedWritesImageSamplesMapAndRayCounts) {
+  const auto dir = fresh_directory("whitted");
+  const auto png = dir / "glass.png", spp = dir / "spp.png", json_path = dir / "glass.json";
+  const std::vector<std::string> base = {"render", "builtin:glass:level=2", "--mode", "whitted", "--res", "40x30",
+                                         "--eye", "0,2.5,5", "--at", "0,0.8,0"};
+  std::vector<std::string> args = base;
+  args.insert(args.end(), {"--aa", "adaptive:threshold=0.05,max_level=2", "--out", png.string(), "--spp-map",
+                           spp.string(), "--json", json_path.string()});
+  const auto result = run_cli(args);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(png));
+  EXPECT_TRUE(std::filesystem::exists(spp));
+  const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
+  EXPECT_GT(report["refraction_rays"].get<int>(), 0);
+  EXPECT_GT(report["shadow_rays"].get<int>(), 0);
+  EXPECT_GT(report["samples_per_pixel"].get<double>(), 1.0);  // the ball's silhouette got subdivided
+  EXPECT_LT(report["samples_per_pixel"].get<double>(), 25.0);
+  EXPECT_EQ(report["rays"], report["camera_rays"].get<int>() + report["shadow_rays"].get<int>() +
+                                report["reflection_rays"].get<int>() + report["refraction_rays"].get<int>());
+  // Against itself as the reference: no error.
+  args = base;
+  args.insert(args.end(), {"--aa", "adaptive:threshold=0.05,max_level=2", "--out", (dir / "again.png").string(),
+                           "--reference", png.string()});
+  const auto again = run_cli(args);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find("RMSE 0.000"), std::string::npos) << again.out;
 }
 
 TEST(CliBench, SmallRunWritesJsonAndImages) {

@@ -24,6 +24,9 @@ struct CameraFrame {
 
   /// Ray through the center of pixel (x, y); row 0 is the top row. Unit direction, t in [0, +inf).
   Ray ray(int x, int y) const;
+  /// Ray through the image-plane point (x, y) in pixels: (0, 0) the top-left corner of the image, (width, height)
+  /// the bottom-right; pixel (i, j)'s center is (i + 0.5, j + 0.5). Unit direction, t in [0, +inf).
+  Ray ray_at(float x, float y) const;
 };
 
 struct Camera {

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "rayaccel/core/stats.h"
@@ -37,11 +38,17 @@ float cost_fraction(std::uint64_t cost, const CostRange& range);
 int heat_legend_height(int width, int height);
 /// Draws the legend into the bottom heat_legend_height() rows: a dark panel holding a colour bar of heat_colour()
 /// from min (left) to max (right), the min cost under its left end, the max cost under its right end ("+" appended
-/// when the scale is clipped), and a caption centered between them: the longest of "COST = NODES+PRIMS, MAX n",
-/// "COST, MAX n", "MAX n" (these three only when clipped, n = highest) and "COST" that fits. Everything is
+/// when the scale is clipped), and a caption centered between them: the longest of "FULL, MAX n", "WORD, MAX n",
+/// "MAX n" (these three only when clipped, n = highest) and "WORD" that fits (FULL and WORD from `caption`:
+/// "COST = NODES+PRIMS" and "COST" by default). Everything is
 /// clipped to the image.
 /// Images less than three legend heights tall get no legend (it would hide most of the picture).
-void draw_heat_legend(Image& image, const CostRange& range);
+/// What the legend calls the quantity: a full caption and a one-word form for narrow images.
+struct HeatCaption {
+  std::string full = "COST = NODES+PRIMS";
+  std::string word = "COST";
+};
+void draw_heat_legend(Image& image, const CostRange& range, const HeatCaption& caption = {});
 
 /// What a heat map is drawn from, kept apart from the image so several maps can be drawn on one scale afterwards.
 struct HeatFrame {
@@ -62,6 +69,6 @@ CostRange shared_cost_range(std::span<const HeatFrame* const> frames);
 
 /// The heat map of `frame` on `scale`: heat_colour(cost_fraction(cost, scale)) times the pixel's brightness, and
 /// the legend of `scale` with the frame's own highest cost (so "+" marks exactly the frames that are clipped).
-Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale);
+Image draw_heat_frame(const HeatFrame& frame, const CostRange& scale, const HeatCaption& caption = {});
 
 }  // namespace rayaccel

@@ -31,6 +31,7 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes();
 ///   teapot_stadium  segments (1024), tube (12), stadium     2 * segments * tube knot triangles first, then 1,568
 ///   slivers         count (10000), aspect, seed             length 2, width 2 / aspect
 ///   soup            count (10000), size, seed               independent random triangles in [-1, 1]^3
+///   glass           level (0..8, 4), floor (>= 2.5, 8)       a floor square (2 triangles) and a ball of 20 * 4^level
 ///   sphere          level (0..8, 4), radius                 20 * 4^level triangles, closed, shared vertices
 Scene make_builtin_scene(std::string_view name, const std::map<std::string, std::string>& params = {});
 
