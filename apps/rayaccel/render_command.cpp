@@ -31,6 +31,10 @@ struct RenderArgs {
   std::string out = "render.png";
   int threads = 0;
   std::uint64_t heat_max = 0;
+  // ao mode
+  int ao_samples = 8;
+  int ao_max_samples = 0;
+  float ao_error = 0.05f;
   // whitted mode
   int max_depth = 5;
   float min_weight = 0.0f;
@@ -128,6 +132,11 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   if (heat_max_given) require_heat_max(args.heat_max);
   const auto [width, height] = parse_resolution(args.resolution, "--res");
+  require_range(args.ao_samples, 1, 65536, "--ao-samples");
+  if (args.ao_max_samples != 0) require_range(args.ao_max_samples, args.ao_samples, 65536, "--ao-max-samples");
+  if (!(args.ao_error >= 0.0f && args.ao_error <= 0.5f)) {
+    throw UsageError(fmt::format("--ao-error: {} is not in [0, 0.5]", args.ao_error));
+  }
   const bool whitted = args.mode == "whitted";
   ShadingMode mode = ShadingMode::normals;
   WhittedArgs whitted_args;
@@ -178,6 +187,9 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   settings.height = height;
   settings.mode = mode;
   if (heat_max_given) settings.heat_scale = fixed_heat_scale(args.heat_max);
+  settings.ao_samples = args.ao_samples;
+  settings.ao_max_samples = args.ao_max_samples;
+  settings.ao_error = args.ao_error;
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
   const RenderResult result = render(*accel, scene, camera, settings);
@@ -205,6 +217,14 @@ Command add_render_command(CLI::App& root) {
   CLI::Option* fov = app->add_option("--fov", args->fov, "Full vertical field of view in degrees");
   app->add_option("--res", args->resolution, "Image size WxH")->capture_default_str();
   app->add_option("--mode", args->mode, "normals, ao, heatmap or whitted (recursive: mirrors, glass, shadows)")
+      ->capture_default_str();
+  app->add_option("--ao-samples", args->ao_samples, "ao: shadow rays per hit (the first round when adaptive)")
+      ->capture_default_str();
+  app->add_option("--ao-max-samples", args->ao_max_samples,
+                  "ao: adaptive sampling, further rounds of --ao-samples rays where the estimate is uncertain, up to "
+                  "this many per hit (0: off)")
+      ->capture_default_str();
+  app->add_option("--ao-error", args->ao_error, "ao: adaptive sampling stops at this standard error")
       ->capture_default_str();
   app->add_option("--max-depth", args->max_depth, "whitted: secondary rays per path at most")->capture_default_str();
   app->add_option("--min-weight", args->min_weight,

@@ -31,6 +31,13 @@ void check_settings(const RenderSettings& settings) {
   }
   if (settings.mode != ShadingMode::ambient_occlusion) return;
   if (settings.ao_samples < 1) throw Error("render: ao_samples " + std::to_string(settings.ao_samples) + " < 1");
+  if (settings.ao_max_samples != 0 && settings.ao_max_samples < settings.ao_samples) {
+    throw Error("render: ao_max_samples " + std::to_string(settings.ao_max_samples) + " is below ao_samples " +
+                std::to_string(settings.ao_samples) + " (0 turns adaptive sampling off)");
+  }
+  if (!(settings.ao_error >= 0.0f && settings.ao_error <= 0.5f)) {
+    throw Error("render: ao_error " + std::to_string(settings.ao_error) + " is not in [0, 0.5]");
+  }
   if (!(std::isfinite(settings.ao_distance_fraction) && settings.ao_distance_fraction >= 0.0f)) {
     throw Error("render: ao_distance_fraction " + std::to_string(settings.ao_distance_fraction) +
                 " is not a finite value >= 0");
@@ -59,17 +66,18 @@ class Timer {
   std::chrono::steady_clock::time_point start_;
 };
 
-/// Fraction of each hit's AO rays that nothing blocks, for the hits of one chunk in order.
-std::vector<float> ambient_visibility(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
-                                      std::span<const Hit> hits, const RenderSettings& settings,
-                                      std::uint64_t chunk, RenderResult& result) {
-  const float max_distance = settings.ao_distance_fraction * length(scene.bounds().extent());
+/// One round of AO rays: `samples` rays from each hit of (rays, hits), seeds (chunk, round, sample); returns how
+/// many of each hit's rays nothing blocks.
+std::vector<int> unblocked_ao_rays(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
+                                   std::span<const Hit> hits, int samples, float max_distance,
+                                   const RenderSettings& settings, std::uint64_t chunk, int round, RenderResult& result) {
   std::vector<Ray> batch;
   std::size_t hit_count = 0;
-  for (int s = 0; s < settings.ao_samples; ++s) {
-    // One seed per (chunk, sample): chunks depend only on the image width, so the rays never depend on threads.
-    const std::vector<Ray> sample = shadow_rays(scene, rays, hits, std::isfinite(max_distance) ? max_distance : 0.0f,
-                                                hash_counter(settings.seed, chunk, static_cast<std::uint32_t>(s)));
+  for (int s = 0; s < samples; ++s) {
+    // One seed per (chunk, round, sample): chunks depend only on the image width, so the rays never depend on threads.
+    const auto dimension = static_cast<std::uint32_t>(round * 65536 + s);
+    const std::vector<Ray> sample =
+        shadow_rays(scene, rays, hits, max_distance, hash_counter(settings.seed, chunk, dimension));
     hit_count = sample.size();
     batch.insert(batch.end(), sample.begin(), sample.end());
   }
@@ -81,11 +89,55 @@ std::vector<float> ambient_visibility(const Accelerator& accel, const Scene& sce
   }
   result.rays += batch.size();
   for (const TraversalStats& st : stats) result.total += st;
-  std::vector<float> visible(hit_count, 0.0f);
+  std::vector<int> open(hit_count, 0);
   for (std::size_t k = 0; k < hit_count; ++k) {
-    int open = 0;
-    for (int s = 0; s < settings.ao_samples; ++s) open += blocked[s * hit_count + k] ? 0 : 1;
-    visible[k] = static_cast<float>(open) / static_cast<float>(settings.ao_samples);
+    for (int s = 0; s < samples; ++s) open[k] += blocked[s * hit_count + k] ? 0 : 1;
+  }
+  return open;
+}
+
+/// Fraction of each hit's AO rays that nothing blocks, for the hits of one chunk in order. With ao_max_samples
+/// above ao_samples, hits whose estimate is still uncertain (standard error sqrt(p (1 - p) / n) above ao_error)
+/// get further rounds of ao_samples rays, up to ao_max_samples: rays go where the estimate's variance is high.
+std::vector<float> ambient_visibility(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
+                                      std::span<const Hit> hits, const RenderSettings& settings,
+                                      std::uint64_t chunk, RenderResult& result) {
+  const float diagonal_distance = settings.ao_distance_fraction * length(scene.bounds().extent());
+  const float max_distance = std::isfinite(diagonal_distance) ? diagonal_distance : 0.0f;
+  std::vector<int> open =
+      unblocked_ao_rays(accel, scene, rays, hits, settings.ao_samples, max_distance, settings, chunk, 0, result);
+  std::vector<int> taken(open.size(), settings.ao_samples);
+  std::vector<std::size_t> hit_pixel;  // index into rays/hits of each hit, in hit order
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    if (hits[i].found()) hit_pixel.push_back(i);
+  }
+  const auto uncertain = [&](std::size_t k) {
+    const double n = taken[k], p = open[k] / n;
+    return taken[k] + settings.ao_samples <= settings.ao_max_samples &&
+           std::sqrt(p * (1.0 - p) / n) > static_cast<double>(settings.ao_error);
+  };
+  for (int round = 1;; ++round) {
+    std::vector<std::size_t> more;
+    for (std::size_t k = 0; k < open.size(); ++k) {
+      if (uncertain(k)) more.push_back(k);
+    }
+    if (more.empty()) break;
+    std::vector<Ray> sub_rays(more.size());
+    std::vector<Hit> sub_hits(more.size());
+    for (std::size_t j = 0; j < more.size(); ++j) {
+      sub_rays[j] = rays[hit_pixel[more[j]]];
+      sub_hits[j] = hits[hit_pixel[more[j]]];
+    }
+    const std::vector<int> extra = unblocked_ao_rays(accel, scene, sub_rays, sub_hits, settings.ao_samples,
+                                                     max_distance, settings, chunk, round, result);
+    for (std::size_t j = 0; j < more.size(); ++j) {
+      open[more[j]] += extra[j];
+      taken[more[j]] += settings.ao_samples;
+    }
+  }
+  std::vector<float> visible(open.size());
+  for (std::size_t k = 0; k < open.size(); ++k) {
+    visible[k] = static_cast<float>(open[k]) / static_cast<float>(taken[k]);
   }
   return visible;
 }

@@ -282,6 +282,54 @@ TEST(Renderer, AmbientOcclusionDarkensACreaseAndIsThreadCountIndependent) {
   EXPECT_LT(near_sum / near_n, far_sum / far_n - 20.0);
 }
 
+TEST(Renderer, AdaptiveAmbientOcclusionSpendsRaysOnlyWhereTheEstimateIsUncertain) {
+  TriangleMesh mesh;
+  add_quad(mesh, {-2.0f, -0.5f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 4.0f});  // floor
+  add_quad(mesh, {-2.0f, -0.5f, -0.3f}, {0.0f, 3.0f, 0.0f}, {4.0f, 0.0f, 0.0f});  // wall: a crease
+  const Scene crease = Scene::from_mesh(std::move(mesh), "crease");
+  const Scene open_plane = tilted_quad();
+  RenderSettings settings;
+  settings.width = settings.height = 32;
+  settings.mode = ShadingMode::ambient_occlusion;
+  settings.ao_samples = 8;
+  settings.ao_distance_fraction = 0.2f;
+  Camera cam;
+  cam.eye = {0.0f, 1.0f, 3.0f};
+  cam.at = {0.0f, -0.3f, 0.0f};
+  const auto run = [&](const Scene& scene, int max_samples, const Camera& camera) {
+    BruteForce bf;
+    bf.build(scene);
+    RenderSettings s = settings;
+    s.ao_max_samples = max_samples;
+    return render(bf, scene, camera, s);
+  };
+  // Nothing occludes an open plane: every estimate is certain after the first round, so adaptive sampling adds
+  // nothing and gives the fixed image.
+  const RenderResult fixed_open = run(open_plane, 0, camera_for_quad());
+  const RenderResult adaptive_open = run(open_plane, 64, camera_for_quad());
+  EXPECT_EQ(adaptive_open.rays, fixed_open.rays);
+  EXPECT_EQ(adaptive_open.image.rgb, fixed_open.image.rgb);
+  // Beside a crease some estimates are uncertain: they get more rays, far fewer than 64 for every hit.
+  const RenderResult fixed = run(crease, 0, cam), adaptive = run(crease, 64, cam), all = run(crease, 64, cam);
+  EXPECT_GT(adaptive.rays, fixed.rays);
+  EXPECT_EQ(adaptive.rays, all.rays);  // deterministic
+  std::uint64_t hits = 0;
+  {
+    BruteForce bf;
+    bf.build(crease);
+    const CameraFrame f = cam.frame(32, 32);
+    for (int y = 0; y < 32; ++y) {
+      for (int x = 0; x < 32; ++x) hits += bf.intersect(f.ray(x, y)).found() ? 1 : 0;
+    }
+  }
+  EXPECT_LT(adaptive.rays, hits + hits * 32) << "uncertain hits only";
+  RenderSettings bad = settings;
+  bad.ao_max_samples = 4;
+  BruteForce bf;
+  bf.build(crease);
+  EXPECT_THROW(render(bf, crease, cam, bad), Error);
+}
+
 TEST(Renderer, ProgressRisesToOne) {
   const Scene scene = tilted_quad();
   BruteForce bf;

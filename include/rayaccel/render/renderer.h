@@ -26,7 +26,9 @@ struct RenderSettings {
   int width = 512;
   int height = 512;
   ShadingMode mode = ShadingMode::normals;
-  int ao_samples = 8;                 ///< shadow rays per hit in ao mode
+  int ao_samples = 8;                 ///< shadow rays per hit in ao mode (the first round when adaptive)
+  int ao_max_samples = 0;             ///< > ao_samples: adaptive AO, more rounds where the estimate is uncertain
+  float ao_error = 0.05f;             ///< adaptive AO: stop once the estimate's standard error is at most this
   float ao_distance_fraction = 0.1f;  ///< ao ray length as a fraction of the scene box diagonal
   std::uint64_t seed = 1;
   /// heatmap mode: the colour scale (min and max; highest is ignored); empty = this image's own cost_range().
@@ -47,13 +49,16 @@ struct RenderResult {
 /// rays are traced in parallel; the progress callback runs on the calling thread after each chunk.
 /// - normals: |n| per axis as (r, g, b) at hits (n the geometric normal), a dark blue-grey background at misses.
 /// - ambient_occlusion: grey = sRGB-encoded fraction of ao_samples cosine-weighted shadow rays (length
-///   ao_distance_fraction times the scene box diagonal) left unoccluded; the same background.
+///   ao_distance_fraction times the scene box diagonal) left unoccluded; the same background. With ao_max_samples
+///   above ao_samples, a hit whose estimate p has a standard error sqrt(p (1 - p) / n) above ao_error gets another
+///   ao_samples rays, round after round, up to ao_max_samples (adaptive sampling: hits whose rays all agree stop).
 /// - heatmap: heat_colour() of each primary ray's cost on the linear scale of cost_range() (cheapest ray to the
 ///   99th percentile) or on settings.heat_scale, with the legend of heatmap.h in the bottom rows. Hit pixels are darkened by 10 to 40 percent
 ///   with the angle between ray and surface, so shapes stay readable where cost is uniform (brute force);
 ///   misses and the legend show the plain ramp.
 /// The result is the same for any thread count. Throws Error for a non-positive size, or ao_samples < 1 or a
-/// negative or non-finite ao_distance_fraction in ambient_occlusion mode.
+/// negative or non-finite ao_distance_fraction, ao_max_samples in (0, ao_samples), or ao_error outside [0, 0.5] in
+/// ambient_occlusion mode.
 RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& camera, const RenderSettings& settings);
 
 }  // namespace rayaccel
