@@ -42,6 +42,7 @@ struct RenderArgs {
   std::string shadows = "any";
   float mirror = 0.0f;
   int light_samples = 4;
+  float light_radius = 0.02f;
   std::string reference;
   std::string json;
   std::string spp_map;
@@ -64,6 +65,9 @@ WhittedArgs parse_whitted_args(const RenderArgs& args) {
   w.settings.any_hit_shadows = args.shadows == "any";
   w.materials.mirror = args.mirror;
   require_range(args.light_samples, 1, 4096, "--light-samples");
+  if (!(args.light_radius >= 0.0f && args.light_radius <= 1.0f)) {
+    throw UsageError(fmt::format("--light-radius: {} is not in [0, 1]", args.light_radius));
+  }
   if (!(args.mirror >= 0.0f && args.mirror <= 1.0f)) {
     throw UsageError(fmt::format("--mirror: {} is not in [0, 1]", args.mirror));
   }
@@ -80,7 +84,7 @@ WhittedArgs parse_whitted_args(const RenderArgs& args) {
 void render_whitted_mode(const RenderArgs& args, const WhittedArgs& w, const Accelerator& accel, const Scene& scene,
                          const Camera& camera, int width, int height, double build_ms, Progress& progress) {
   const SceneMaterials materials = default_materials(scene, w.materials);
-  const std::vector<Light> lights = default_lights(scene.bounds(), camera, args.light_samples);
+  const std::vector<Light> lights = default_lights(scene.bounds(), camera, args.light_samples, args.light_radius);
   WhittedSettings settings = w.settings;
   settings.up = camera.up;
   progress.stage(fmt::format("rendering {}x{} whitted, --aa {}", width, height, args.aa));
@@ -239,6 +243,9 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--mirror", args->mirror, "whitted: mirror weight of a mesh file's surfaces, 0 to 1")
       ->capture_default_str();
   app->add_option("--light-samples", args->light_samples, "whitted: shadow rays per spherical light")
+      ->capture_default_str();
+  app->add_option("--light-radius", args->light_radius,
+                  "whitted: the light's radius as a fraction of the scene diagonal (0: a point light, no noise)")
       ->capture_default_str();
   app->add_option("--reference", args->reference, "whitted: a PNG to measure the image's error (RMSE, PSNR) against");
   app->add_option("--json", args->json, "whitted: write the rays traced by kind and the timings to this JSON file");

@@ -18,8 +18,11 @@ Vec3 light_sample(const Light& light, std::uint64_t stream, int k) {
   return light.position + Vec3{r * std::cos(phi), r * std::sin(phi), z} * light.radius;
 }
 
-std::vector<Light> default_lights(const AABB& box, const Camera& camera, int samples) {
+std::vector<Light> default_lights(const AABB& box, const Camera& camera, int samples, float radius_fraction) {
   if (samples < 1) throw Error("lights: " + std::to_string(samples) + " samples per light; at least 1");
+  if (!(radius_fraction >= 0.0f && std::isfinite(radius_fraction))) {
+    throw Error("lights: radius fraction " + std::to_string(radius_fraction) + " is not a finite value >= 0");
+  }
   const CameraFrame frame = camera.frame(1, 1);
   const float distance = std::max(length(camera.at - camera.eye), 1e-6f);
   Light light;
@@ -32,7 +35,7 @@ std::vector<Light> default_lights(const AABB& box, const Camera& camera, int sam
       light.position[axis] = std::clamp(light.position[axis], box.lo[axis] + margin[axis], box.hi[axis] - margin[axis]);
     }
   }
-  light.radius = box.is_empty() ? 0.02f * distance : 0.02f * length(box.extent());
+  light.radius = radius_fraction * (box.is_empty() ? distance : length(box.extent()));
   light.samples = samples;
   const float to_target = length(camera.at - light.position);
   light.intensity = Vec3{1.0f, 0.95f, 0.85f} * (to_target * to_target);

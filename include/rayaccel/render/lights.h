@@ -25,10 +25,11 @@ struct Light {
 Vec3 light_sample(const Light& light, std::uint64_t stream, int k);
 
 /// The default lighting for a camera: one spherical light above and to the right of the eye (a quarter of the
-/// eye-to-target distance each way), of radius 2% of the scene box's diagonal, with `samples` samples, bright
+/// eye-to-target distance each way), of radius 2% of the scene box's diagonal by default, with `samples` samples, bright
 /// enough to give a surface at the target an irradiance of about 1; when the eye is inside the box (a room), the
 /// light is kept inside it, a twentieth of each extent from its walls. Lit from near the viewpoint, every visible
 /// surface of an open or closed scene gets light, and shadows fall just beside the objects that cast them.
-std::vector<Light> default_lights(const AABB& box, const Camera& camera, int samples);
+/// radius_fraction (>= 0, 0 for a point light) sets the radius as a fraction of the box's diagonal.
+std::vector<Light> default_lights(const AABB& box, const Camera& camera, int samples, float radius_fraction = 0.02f);
 
 }  // namespace rayaccel
