@@ -14,6 +14,7 @@
 #include "rayaccel/render/colormap.h"
 #include "rayaccel/render/heatmap.h"
 #include "rayaccel/render/sampling.h"
+#include "rayaccel/render/shading.h"
 #include "rayaccel/render/workloads.h"
 
 namespace rayaccel {
@@ -110,7 +111,7 @@ void shade_heatmap(Image& image, const Scene& scene, std::span<const Ray> rays, 
       const std::size_t i = static_cast<std::size_t>(y) * image.width + x;
       Rgb c = heat_colour(cost_fraction(traversal_cost(stats[i]), range));
       if (hits[i].found()) {
-        const float facing = std::fabs(dot(scene.normal(rays[i], hits[i]), rays[i].direction));
+        const float facing = std::fabs(dot(geometric_normal(scene, rays[i], hits[i]), rays[i].direction));
         c = scaled(c, 0.6f + 0.3f * std::clamp(facing, 0.0f, 1.0f));
       }
       image.set(x, y, c);
@@ -154,7 +155,7 @@ RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& 
       for_rows(y0, y1, [&](int y) {
         for (int x = 0; x < width; ++x) {
           const std::size_t i = static_cast<std::size_t>(y) * width + x;
-          if (hits[i].found()) result.image.set(x, y, normal_colour(scene.normal(rays[i], hits[i])));
+          if (hits[i].found()) result.image.set(x, y, normal_colour(geometric_normal(scene, rays[i], hits[i])));
         }
       });
     } else if (settings.mode == ShadingMode::ambient_occlusion) {
