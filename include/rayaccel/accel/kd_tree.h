@@ -31,11 +31,8 @@ struct KdTreeOptions {
   /// Median builder: a node with at most this many references becomes a leaf.
   int leaf_size = 2;
   /// SAH cost of one traversal step and of one primitive test (Wald & Havran's K_T and K_I); with block_size 4,
-  /// K_I is the cost of one Triangle4 block. K_I 20 -> 7.5 (rayaccel bench, 1 thread, bunny / sponza / conference):
-  /// 3-15% more Mrays/s on most ray kinds (conference primary -8%), 30% less memory, 25-30% faster builds. 7.5 -> 3
-  /// (the same bench over the four shared scenes and the three stress scenes, in one run each): primary +1-22% but
-  /// Sponza -1%, diffuse +7-24%, shadow +4-26%, 10-32% less memory and 17-30% faster builds; 2 was better still on
-  /// bunny and dragon but 14-27% slower on Sponza, conference and teapot-in-a-stadium camera rays.
+  /// K_I is the cost of one Triangle4 block, which is cheap next to a step, so K_I is low: smaller values pay on
+  /// small meshes but cost architectural scenes (BENCHMARKS.md, "Option choices", has the runs behind 15 and 3).
   float traversal_cost = 15.0f;
   float intersection_cost = 3.0f;
   /// SAH: fraction of the cost saved when a split cuts off an empty child (Wald & Havran use 0.2).

@@ -23,15 +23,13 @@ namespace rayaccel {
 
 struct UniformGridOptions {
   /// Cells per axis ~ density * cbrt(n) for a cubic box (about density^3 cells per primitive). The default 3 is the
-  /// classic rule (and this project's specification); with Triangle4 blocks fewer, fuller cells pay better:
-  /// `grid:density=1,blocks=true,mailbox=false` (rayaccel bench, 1 thread, res 256, bunny / sponza / conference,
-  /// density 3 -> 1 with blocks: primary 0.76 -> 1.7, 0.33 -> 0.45-0.69, 0.23 -> 0.43-0.64 Mrays/s; memory 23 -> 6,
-  /// 169 -> 28, 115 -> 23 MB). At density 3 blocks do not pay (memory grows 3-5x for little gain), so they are off
-  /// by default.
+  /// classic rule (and this project's specification); with Triangle4 blocks fewer, fuller cells pay better
+  /// (`grid:density=1,blocks=true,mailbox=false`: faster and a fraction of the memory). At density 3 blocks do not
+  /// pay (memory grows for little gain), so they are off by default. Figures: BENCHMARKS.md, "Option choices".
   double density = 3.0;
   bool exact = true;  ///< triangles: drop references whose triangle misses the cell (SAT); others use boxes
   /// Skip primitives this ray tested in a recent cell; with blocks, a block whose triangles were all tested (with
-  /// blocks the check costs more than it saves: equal or up to 1.6x slower in the bench above).
+  /// blocks the check costs more than it saves, see BENCHMARKS.md).
   bool mailbox = true;
   bool blocks = false;             ///< triangles: cells hold Triangle4 blocks tested with SIMD; else id lists
   int max_resolution = 1024;       ///< cells per axis at most

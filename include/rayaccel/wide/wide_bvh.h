@@ -46,22 +46,19 @@ struct WideBvhConfig {
   WideIsa isa = WideIsa::best;
   /// The binary tree that is collapsed: binned SAH whose leaves hold up to two Triangle4 blocks, costed per block
   /// (four triangles are tested for the price of one, so the SAH charges 1 per started block of 4, as Embree's
-  /// builders do). Measured against 0.3 per triangle with leaves of at most 4 (rayaccel bench, 1 thread, bunny,
-  /// conference, dragon): about the same rays per second, 15-28% less memory and 10-30% faster builds, because
-  /// blocks are full (fill 0.76 -> 0.9+) and there are fewer leaves and nodes.
+  /// builders do): full blocks mean fewer leaves and nodes, so less memory and faster builds for the same rays per
+  /// second (BENCHMARKS.md, "Option choices").
   BinnedSahConfig binary{
       .max_leaf_size = 8, .costs = {.traversal = 1.0f, .intersection = 1.0f}, .bin_count = 16, .block_size = 4};
   /// Triangle pre-splitting before the binary build (Karras & Aila 2013, see bvh/presplit.h): extra references as a
   /// fraction of the triangle count, 0..4; 0 builds over one reference per triangle. Ignored for other primitives.
-  /// 0.1 takes most of the gain on architectural scenes (Crytek Sponza: half the primitive tests per ray) for about
-  /// a third more build time; larger fractions add build time and memory for little more (see BENCHMARKS.md).
+  /// 0.1 takes most of the gain on architectural scenes for a moderate build-time cost; larger fractions add build
+  /// time and memory for little more (BENCHMARKS.md).
   float presplit = 0.1f;
   /// Pre-split only scenes whose presplit_potential() (bvh/presplit.h) is at least this; 0 pre-splits every triangle
-  /// scene. Measured (BENCHMARKS.md): pre-splitting paid on Crytek Sponza (potential 5.5) and cost build time for no
-  /// trace gain on the bunny, dragon, soup and teapot-in-a-stadium scenes (0.03-0.27; on teapot-in-a-stadium it was
-  /// slower) and on the conference room (3.2; three sets of runs, the trace speed within the noise, the build 25-40%
-  /// slower). 4 lies between the conference room and Sponza. Slivers (374) are above it, though 0.1 buys them no
-  /// trace speed either: only larger budgets pay there.
+  /// scene. Pre-splitting paid on Crytek Sponza and cost build time for no trace gain on scenes of low potential and
+  /// on the conference room; 4 lies between the conference room and Sponza (potentials and runs: BENCHMARKS.md,
+  /// "Option choices").
   float presplit_threshold = 4.0f;
 };
 
