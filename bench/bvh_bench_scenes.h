@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "rayaccel/core/error.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/render/camera.h"
 

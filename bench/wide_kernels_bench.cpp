@@ -6,12 +6,20 @@
 #include <random>
 #include <vector>
 
-#include "rayaccel/wide/avx2_kernels.h"
-#include "rayaccel/wide/simd_kernels.h"
+#include "rayaccel/simd/box_kernel.h"
+#include "rayaccel/simd/isa.h"
+#include "rayaccel/simd/lanes_avx2.h"
+#include "rayaccel/simd/watertight_lanes.h"
 #include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel::wide {
 namespace {
+
+using simd::Avx8;
+using simd::Sse4;
+using simd::cpu_has_avx2;
+using BoxKernel4 = BoxKernel<Sse4>;
+using BoxKernel8 = BoxKernel<Avx8>;
 
 constexpr int kRays = 256;
 constexpr int kItems = 64;
@@ -79,7 +87,7 @@ void BM_BoxKernel4(benchmark::State& state) {
 }
 BENCHMARK(BM_BoxKernel4);
 
-__attribute__((target("avx2"), flatten)) int box8_pass(const PreparedRay& r, const std::vector<Node<8>>& nodes) {
+RAYACCEL_TARGET_AVX2 __attribute__((flatten)) int box8_pass(const PreparedRay& r, const std::vector<Node<8>>& nodes) {
   alignas(32) float entry[8];
   const BoxKernel8::Packet p = BoxKernel8::prepare(r);
   int hits = 0;
@@ -112,7 +120,7 @@ void BM_TriangleLanes4(benchmark::State& state) {
 }
 BENCHMARK(BM_TriangleLanes4);
 
-__attribute__((target("avx2"), flatten)) Hit triangles8_pass(const PreparedRay& r,
+RAYACCEL_TARGET_AVX2 __attribute__((flatten)) Hit triangles8_pass(const PreparedRay& r,
                                                                const std::vector<Triangle4>& blocks) {
   const TrianglePacket<Avx8> p(r);
   Hit hit = Hit::begin(r);
@@ -146,7 +154,7 @@ std::vector<Ray> make_coherent_rays() {
   return rays;
 }
 
-__attribute__((target("avx2"), flatten)) int triangle_rays_pass(const Ray* rays,
+RAYACCEL_TARGET_AVX2 __attribute__((flatten)) int triangle_rays_pass(const Ray* rays,
                                                                  const std::vector<Triangle4>& blocks) {
   alignas(32) float lane[9][8];
   const PreparedRay first(rays[0]);

@@ -13,7 +13,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/accel/brute_force.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::cli {
 

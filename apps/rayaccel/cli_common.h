@@ -14,7 +14,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/core/error.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/heatmap.h"
 

@@ -214,7 +214,8 @@ Command add_render_command(CLI::App& root) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* app = root.add_subcommand("render", "Render a PNG (normals, ambient occlusion or a heat map)");
   app->add_option("scene", args->scene, "Mesh file or builtin:NAME[:key=value,...]")->required();
-  app->add_option("--accel", args->accel, "Structure spec NAME[:key=value,...]; default bvh");
+  app->add_option("--accel", args->accel,
+                  "Structure spec NAME[:key=value,...]; default " + default_accelerator_spec());
   app->add_option("--eye", args->eye, "Camera position x,y,z (default: the scene's standard camera)");
   app->add_option("--at", args->at, "Point looked at x,y,z");
   app->add_option("--up", args->up, "Up hint x,y,z");

@@ -109,7 +109,8 @@ Command add_trace_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand("trace", "Trace a .rays file and write the .hits (or .occ) file");
   app->add_option("scene", args->scene, "Mesh file or builtin:NAME[:key=value,...]")->required();
   app->add_option("rays", args->rays, ".rays file (32 bytes per ray: ox oy oz tmin dx dy dz tmax)")->required();
-  app->add_option("--accel", args->accel, "Structure spec NAME[:key=value,...] (see 'rayaccel list'); default bvh");
+  app->add_option("--accel", args->accel,
+                  "Structure spec NAME[:key=value,...] (see 'rayaccel list'); default " + default_accelerator_spec());
   app->add_flag("--occlusion", args->occlusion, "Any-hit queries (occluded()); writes a .occ file");
   app->add_flag("--packets", args->packets,
                 "Closest hits of coherent rays, each run of eight consecutive rays traced as one packet "

@@ -16,6 +16,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "rayaccel/render/shading.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/render/workloads.h"
 
@@ -168,7 +169,7 @@ class PyAccelerator {
           Vec3 point{nan}, normal{nan};
           if (hits[i].found() && hits[i].prim_id < count) {
             point = surface_point(scene, rays[i], hits[i]).point;
-            normal = scene.normal(rays[i], hits[i]);
+            normal = geometric_normal(scene, rays[i], hits[i]);
           }
           for (int a = 0; a < 3; ++a) {
             p[3 * i + a] = point[a];

@@ -10,7 +10,6 @@
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/clip_polygon.h"
-#include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel {
 
@@ -85,20 +84,19 @@ void KdTree::build(const Scene& scene) {
 void KdTree::build_blocks(const Scene& scene) {
   block_first_.clear();
   blocks_.clear();
-  skipped_coincident_ = 0;
-  avx2_ = false;
+  isa_ = simd::Isa::sse2;
   if (scene.kind() != PrimitiveKind::triangles || data_.nodes.empty()) return;
   block_first_.resize(data_.nodes.size() + 1);
   for (std::size_t i = 0; i < data_.nodes.size(); ++i) {
     block_first_[i] = static_cast<std::uint32_t>(blocks_.size());
     const KdNode& n = data_.nodes[i];
     if (!n.is_leaf()) continue;
-    skipped_coincident_ += wide::pack_triangle_blocks(
+    simd::pack_triangle_blocks(
         scene, std::span<const std::uint32_t>(data_.prim_indices.data() + n.prim_offset, n.prim_count()), blocks_);
   }
   block_first_.back() = static_cast<std::uint32_t>(blocks_.size());
   blocks_.shrink_to_fit();
-  avx2_ = wide::cpu_has_avx2();
+  isa_ = simd::best_isa(simd::Isa::avx2);
 }
 
 std::vector<BuildStatistic> KdTree::build_statistics() const {
@@ -128,7 +126,6 @@ std::vector<BuildStatistic> KdTree::build_statistics() const {
     }
     stats.push_back({"triangle4_blocks", double(blocks_.size())});
     stats.push_back({"block_fill", double(used) / (4.0 * double(blocks_.size()))});
-    stats.push_back({"skipped_coincident_vertex_triangles", double(skipped_coincident_)});
   }
   return stats;
 }
@@ -191,24 +188,21 @@ void KdTree::validate_blocks(ProblemList& report) const {
       return;
     }
     if (!n.is_leaf()) continue;
-    // The blocks must hold the leaf's references in order, less those with coincident vertices, copied exactly.
+    // The blocks must hold the leaf's references in order, copied exactly.
     std::vector<std::uint32_t> expected;
     for (std::uint32_t k = 0; k < n.prim_count(); ++k) {
       const std::size_t at = std::size_t(n.prim_offset) + k;
       if (at >= data_.prim_indices.size()) break;
       const std::uint32_t id = data_.prim_indices[at];
-      if (id < scene_->primitive_count() && !wide::coincident_vertices(scene_->triangle(id))) expected.push_back(id);
+      if (id < scene_->primitive_count()) expected.push_back(id);
     }
     std::size_t k = 0;
     bool ok = last - first == (expected.size() + 3) / 4;
-    wide::for_each_block_id(blocks_.data() + first, last - first, [&](const wide::Triangle4& b, int lane) {
+    simd::for_each_block_id(blocks_.data() + first, last - first, [&](const simd::Triangle4& b, int lane) {
       if (!ok) return;
       const std::uint32_t id = b.prim_id[lane];
       if (k >= expected.size() || expected[k++] != id) { ok = false; return; }
-      const auto& tri = scene_->triangle(id);
-      for (int v = 0; v < 3; ++v) {
-        for (int a = 0; a < 3; ++a) ok = ok && b.vertex[v][a][lane] == tri[v][a];
-      }
+      ok = simd::block_lane_matches_scene(b, lane, *scene_);
     });
     if (!ok || k != expected.size()) report("node " + std::to_string(i) + ": Triangle4 blocks differ from the leaf");
   }

@@ -6,7 +6,6 @@
 #include <memory>
 
 #include "rayaccel/core/error.h"
-#include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel {
 
@@ -37,9 +36,8 @@ void UniformGrid::build(const Scene& scene) {
   block_first_ = {};
   blocks_ = {};
   occupied_ = {};
-  skipped_coincident_ = 0;
   references_ = 0;
-  avx2_ = false;
+  isa_ = simd::Isa::sse2;
   empty_ = refs.empty();
   if (refs.empty()) {
     frame_ = GridFrame::make(AABB({0, 0, 0}, {1, 1, 1}), {1, 1, 1});
@@ -64,14 +62,14 @@ void UniformGrid::build(const Scene& scene) {
   for (std::uint32_t c = 0; c < cells; ++c) {
     block_first_[c] = static_cast<std::uint32_t>(blocks_.size());
     const std::uint32_t first = lists_.offsets[c], last = lists_.offsets[c + 1];
-    skipped_coincident_ += wide::pack_triangle_blocks(
+    simd::pack_triangle_blocks(
         scene, std::span<const std::uint32_t>(lists_.ids.data() + first, last - first), blocks_);
     if (block_first_[c] == blocks_.size()) occupied_[c >> 6] &= ~(std::uint64_t(1) << (c & 63));
   }
   block_first_.back() = static_cast<std::uint32_t>(blocks_.size());
   blocks_.shrink_to_fit();
   lists_ = {};
-  avx2_ = wide::cpu_has_avx2();
+  isa_ = simd::best_isa(simd::Isa::avx2);
 }
 
 CellLists UniformGrid::cell_lists() const {
@@ -80,8 +78,8 @@ CellLists UniformGrid::cell_lists() const {
   out.offsets.reserve(block_first_.size());
   for (std::size_t c = 0; c + 1 < block_first_.size(); ++c) {
     out.offsets.push_back(static_cast<std::uint32_t>(out.ids.size()));
-    wide::for_each_block_id(blocks_.data() + block_first_[c], block_first_[c + 1] - block_first_[c],
-                            [&](const wide::Triangle4& b, int lane) { out.ids.push_back(b.prim_id[lane]); });
+    simd::for_each_block_id(blocks_.data() + block_first_[c], block_first_[c + 1] - block_first_[c],
+                            [&](const simd::Triangle4& b, int lane) { out.ids.push_back(b.prim_id[lane]); });
   }
   out.offsets.push_back(static_cast<std::uint32_t>(out.ids.size()));
   return out;
@@ -89,7 +87,7 @@ CellLists UniformGrid::cell_lists() const {
 
 std::size_t UniformGrid::memory_bytes() const {
   return lists_.offsets.capacity() * sizeof(std::uint32_t) + lists_.ids.capacity() * sizeof(std::uint32_t) +
-         block_first_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(wide::Triangle4) +
+         block_first_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(simd::Triangle4) +
          occupied_.capacity() * sizeof(std::uint64_t) + sizeof(*this);
 }
 
@@ -112,7 +110,6 @@ std::vector<BuildStatistic> UniformGrid::build_statistics() const {
     }
     stats.push_back({"triangle4_blocks", double(blocks_.size())});
     stats.push_back({"block_fill", blocks_.empty() ? 0.0 : double(used) / (4.0 * double(blocks_.size()))});
-    stats.push_back({"skipped_coincident_vertex_triangles", double(skipped_coincident_)});
   }
   return stats;
 }
@@ -139,20 +136,12 @@ std::vector<std::string> UniformGrid::validate() const {
     }
   }
   if (!block_first_.empty()) {
-    // Triangles left out of the blocks must have coincident vertices (never hit); the copies must be exact.
-    for (std::uint32_t id = 0; id < scene_->primitive_count(); ++id) {
-      if (scene_->is_valid(id) && !seen[id] && wide::coincident_vertices(scene_->triangle(id))) seen[id] = 1;
-    }
+    // The copies must be exact.
     for (const auto& b : blocks_) {
       for (int lane = 0; lane < 4; ++lane) {
         const std::uint32_t id = b.prim_id[lane];
         if (id == kInvalidPrimId || id >= scene_->primitive_count()) continue;
-        const auto& tri = scene_->triangle(id);
-        bool same = true;
-        for (int v = 0; v < 3; ++v) {
-          for (int a = 0; a < 3; ++a) same = same && b.vertex[v][a][lane] == tri[v][a];
-        }
-        if (!same) {
+        if (!simd::block_lane_matches_scene(b, lane, *scene_)) {
           problems.push_back("block copy of triangle " + std::to_string(id) + " differs from the scene");
           return problems;
         }

@@ -14,6 +14,7 @@
 #include "rayaccel/render/colormap.h"
 #include "rayaccel/render/heatmap.h"
 #include "rayaccel/render/sampling.h"
+#include "rayaccel/render/shading.h"
 #include "rayaccel/render/workloads.h"
 
 namespace rayaccel {
@@ -161,7 +162,7 @@ HeatFrame heat_frame(const Scene& scene, int width, int height, std::span<const 
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
       frame.cost[i] = traversal_cost(stats[i]);
       if (hits[i].found()) {
-        const float facing = std::fabs(dot(scene.normal(rays[i], hits[i]), rays[i].direction));
+        const float facing = std::fabs(dot(geometric_normal(scene, rays[i], hits[i]), rays[i].direction));
         frame.brightness[i] = 0.6f + 0.3f * std::clamp(facing, 0.0f, 1.0f);
       }
     }
@@ -205,7 +206,7 @@ RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& 
       for_rows(y0, y1, [&](int y) {
         for (int x = 0; x < width; ++x) {
           const std::size_t i = static_cast<std::size_t>(y) * width + x;
-          if (hits[i].found()) result.image.set(x, y, normal_colour(scene.normal(rays[i], hits[i])));
+          if (hits[i].found()) result.image.set(x, y, normal_colour(geometric_normal(scene, rays[i], hits[i])));
         }
       });
     } else if (settings.mode == ShadingMode::ambient_occlusion) {

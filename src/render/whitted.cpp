@@ -13,6 +13,7 @@
 #include "rayaccel/render/colormap.h"
 #include "rayaccel/render/heatmap.h"
 #include "rayaccel/render/sampling.h"
+#include "rayaccel/render/shading.h"
 #include "rayaccel/render/workloads.h"
 
 namespace rayaccel {
@@ -126,7 +127,7 @@ Vec3 WhittedTracer::trace(const Ray& ray, int depth, float weight, std::uint64_t
 
   const Material& m = materials_.of(hit.prim_id);
   const Vec3 d = normalize(ray.direction);
-  const Vec3 n = scene_.normal(ray, hit);               // as the primitive is oriented
+  const Vec3 n = geometric_normal(scene_, ray, hit);   // as the primitive is oriented
   const Vec3 facing = dot(n, d) > 0.0f ? -n : n;        // toward the side the ray came from
   Vec3 colour{};
   const float diffuse = 1.0f - m.mirror - m.transmission;

@@ -11,6 +11,7 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/float_rounding.h"
 #include "rayaccel/render/sampling.h"
+#include "rayaccel/render/shading.h"
 
 namespace rayaccel {
 
@@ -18,7 +19,7 @@ namespace {
 
 /// Unit normal at the hit facing the side the ray came from; a missing normal falls back to -direction.
 Vec3 facing_normal(const Scene& scene, const Ray& ray, const Hit& hit) {
-  Vec3 n = scene.normal(ray, hit);
+  Vec3 n = geometric_normal(scene, ray, hit);
   if (!is_finite(n) || n == Vec3{}) n = -normalize(ray.direction);
   return dot(n, ray.direction) > 0.0f ? -n : n;
 }

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #include "rayaccel/wide/wide_bvh.h"
@@ -22,7 +23,12 @@ namespace rayaccel::wide {
 
 namespace {
 
-constexpr int kPacketSize = static_cast<int>(detail::kPacketSize);  // also the node width and the lane count
+// One ray per lane of the eight-wide kernels' lane set, and one lane per child of the node those kernels test: the
+// packet size, the lane count and the node width are the same number.
+using PacketLanesSet = simd::Avx8;
+constexpr int kPacketSize = PacketLanesSet::kWidth;
+static_assert(kPacketSize == static_cast<int>(detail::kPacketSize), "a packet of intersect_packets() fills the lanes");
+static_assert(sizeof(Node<kPacketSize>::child) / sizeof(std::uint32_t) == kPacketSize, "one child a lane");
 
 /// A ray that is void (see PreparedRay): the lanes of a last, partial packet.
 Ray void_ray() {
@@ -37,8 +43,7 @@ std::array<PreparedRay, sizeof...(I)> prepare_rays(const Ray* rays, std::index_s
   return {PreparedRay(rays[I])...};
 }
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
+RAYACCEL_LANE_CODE_BEGIN
 
 /// The per-lane constants of a packet, computed eight lanes at a time: each lane holds what PreparedRay,
 /// BoxTestOrigin and Hit::begin give its ray (the same float operations: 1/d, d[kx] / d[kz], ...), when the packet
@@ -55,7 +60,7 @@ struct PacketLanes {
   int axes[3] = {0, 1, 2};  ///< kx, ky, kz shared by the active rays (fast path only)
   TrianglePacket<S> triangle;  ///< origin in the shared axes, shear and t_min per lane (fast path only)
 
-  explicit PacketLanes(const Ray* rays) {
+  RAYACCEL_LANE_INLINE explicit PacketLanes(const Ray* rays) {
     static_assert(sizeof(Ray) == 8 * sizeof(float), "Ray is the record ox oy oz t_min dx dy dz t_max");
     alignas(32) float field[8][kPacketSize];  // field f of every lane's ray
     for (int i = 0; i < kPacketSize; ++i) {
@@ -122,7 +127,7 @@ struct PacketLanes {
 }  // namespace
 
 template <class S>
-inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
+RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
   using F = typename S::F;
   std::array<Ray, kPacketSize> padded;  // a last, partial packet: void rays in the missing lanes
   const Ray* rays = packet_rays;
@@ -139,7 +144,7 @@ inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) 
     // packets): ray by ray, with the single-ray traversal.
     const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays, std::make_index_sequence<8>{});
     for (int i = 0; i < kPacketSize; ++i) {
-      if (lanes_in.active >> i & 1) traverse<BoxKernel8, false>(nodes8_, prepared[i], hit[i], none);
+      if (lanes_in.active >> i & 1) traverse<BoxKernel<S>, false>(nodes8_, prepared[i], hit[i], none);
     }
   } else if (lanes_in.active) {
     // With the same direction signs in every active ray (coherent packets almost always), each axis's near plane is
@@ -151,7 +156,7 @@ inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) 
       same_signs &= negative == 0 || negative == lanes_in.active;
       near_offset[a] = negative ? 1 : 0;
     }
-    const auto trace = [&]<bool kSameSigns>() {
+    const auto trace = [&]<bool kSameSigns>() RAYACCEL_LANE_LAMBDA {
       const F* o = lanes_in.origin;
       const F* inv = lanes_in.inv_direction;
       const F* near_is_hi = lanes_in.direction;  // the sign bit of d selects the near plane, as PreparedRay::negative
@@ -267,16 +272,7 @@ inline void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) 
   for (int i = 0; i < count; ++i) hits[i] = hit[i].found() ? hit[i] : Hit{};
 }
 
-__attribute__((target("avx2"), flatten)) void WideBvh::trace_packet_avx2(const Ray* rays, int count,
-                                                                         Hit* hits) const {
-  trace_packet<Avx8>(rays, count, hits);
-}
-
-__attribute__((target("avx2,avx512f,avx512vl,avx512dq,avx512bw"), flatten)) void WideBvh::trace_packet_avx512(
-    const Ray* rays, int count, Hit* hits) const {
-  trace_packet<Avx8>(rays, count, hits);
-}
-#pragma GCC diagnostic pop
+RAYACCEL_LANE_CODE_END
 
 void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
   if (width_ != 8 || !triangles_ || root_ == kEmptyChild) {
@@ -287,11 +283,12 @@ void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) 
   detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t first = begin; first < end; first += detail::kPacketSize) {
       const int count = static_cast<int>(std::min(detail::kPacketSize, end - first));
-      if (avx512_) {
-        trace_packet_avx512(rays.data() + first, count, hits.data() + first);
-      } else {
-        trace_packet_avx2(rays.data() + first, count, hits.data() + first);
-      }
+      // isa_ is avx2 or avx512 with eight-wide nodes: the lanes are Avx8.
+      simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+        if constexpr (std::is_same_v<Lanes, PacketLanesSet>) {
+          trace_packet<Lanes>(rays.data() + first, count, hits.data() + first);
+        }
+      });
     }
   });
 }

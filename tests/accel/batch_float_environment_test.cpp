@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "rayaccel/accel/registry.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 namespace {

@@ -86,7 +86,7 @@ TEST(KdTree, SahCutsOffEmptySpaceAndReportsStatistics) {
   EXPECT_EQ(sah->memory_bytes(), std::size_t(s.at("nodes")) * 8 +
                                      dynamic_cast<const KdTree&>(*sah).data().prim_indices.size() * 4 +
                                      (std::size_t(s.at("nodes")) + 1) * 4 +
-                                     std::size_t(s.at("triangle4_blocks")) * sizeof(wide::Triangle4));
+                                     std::size_t(s.at("triangle4_blocks")) * sizeof(simd::Triangle4));
   EXPECT_GT(s.at("block_fill"), 0.5);
 }
 

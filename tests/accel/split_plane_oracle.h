@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "rayaccel/accel/registry.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "spatial_oracle.h"
 
 namespace rayaccel::spatial_test {

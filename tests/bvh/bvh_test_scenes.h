@@ -10,7 +10,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/accel/brute_force.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::bvh_test {
 

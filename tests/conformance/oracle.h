@@ -12,7 +12,7 @@
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::conformance {
 

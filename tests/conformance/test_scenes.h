@@ -10,7 +10,7 @@
 
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/ray.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::conformance {
 

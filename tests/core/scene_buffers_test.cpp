@@ -10,7 +10,7 @@
 
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 namespace {

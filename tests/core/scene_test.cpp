@@ -6,8 +6,9 @@
 #include <limits>
 #include <vector>
 
+#include "rayaccel/render/shading.h"
 #include "rayaccel/core/error.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 namespace {
@@ -161,7 +162,7 @@ TEST(Scene, SpheresWithBadCenterOrRadiusAreInvalid) {
   Hit hit = Hit::begin(pr);
   ASSERT_TRUE(s.intersect(0, pr, hit));
   EXPECT_FLOAT_EQ(hit.t, 4.0f);
-  EXPECT_EQ(s.normal(ray, hit), (Vec3{-1, 0, 0}));
+  EXPECT_EQ(geometric_normal(s, ray, hit), (Vec3{-1, 0, 0}));
 }
 
 TEST(Scene, UserPrimitivesNeedCallbacksAndValidBounds) {
@@ -190,7 +191,7 @@ TEST(Scene, TriangleNormalAndHullPoints) {
   Hit hit;
   hit.prim_id = 0;
   hit.t = 1.0f;
-  EXPECT_EQ(s.normal(ray, hit), (Vec3{0, 0, 1}));
+  EXPECT_EQ(geometric_normal(s, ray, hit), (Vec3{0, 0, 1}));
   std::array<Vec3, 8> hull;
   ASSERT_EQ(s.hull_points(3, hull), 3);
   EXPECT_EQ(hull[1], (Vec3{1, 0, 5}));

@@ -11,7 +11,7 @@
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::exact {
 

@@ -11,7 +11,7 @@
 #include "exact_reference.h"
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/core/ray.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::exact {
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "rayaccel/accel/accelerator.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel::wide {
 

@@ -13,7 +13,7 @@
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/core/stats.h"
 
 namespace rayaccel {

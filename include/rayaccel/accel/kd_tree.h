@@ -1,7 +1,7 @@
 // kd-tree: axis-aligned binary space partition with 8-byte nodes, built either at the median of the centroids
 // (cycling axes) or by the O(N log N) SAH sweep with perfect splits of Wald & Havran 2006 ("On building fast
 // kd-trees for ray tracing, and on doing that in O(N log N)"); traversed front to back by ray segments. Triangle
-// meshes keep a copy of each leaf's triangles as Triangle4 blocks (wide/triangle_blocks.h) tested four at a time with
+// meshes keep a copy of each leaf's triangles as Triangle4 blocks (simd/triangle_blocks.h) tested four at a time with
 // the watertight SIMD kernel (eight, two blocks at once, with AVX2 when the CPU has it), and the SAH charges K_I per
 // started block of four, as Embree's builders do; other primitive kinds are tested one by one through the scene.
 #pragma once
@@ -18,9 +18,8 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/segment_traversal.h"
 #include "rayaccel/geometry/ray_box.h"
-#include "rayaccel/wide/avx2_kernels.h"
-#include "rayaccel/wide/simd_kernels.h"
-#include "rayaccel/wide/triangle_blocks.h"
+#include "rayaccel/simd/dispatch.h"
+#include "rayaccel/simd/triangle_blocks.h"
 
 namespace rayaccel {
 
@@ -32,11 +31,8 @@ struct KdTreeOptions {
   /// Median builder: a node with at most this many references becomes a leaf.
   int leaf_size = 2;
   /// SAH cost of one traversal step and of one primitive test (Wald & Havran's K_T and K_I); with block_size 4,
-  /// K_I is the cost of one Triangle4 block. K_I 20 -> 7.5 (rayaccel bench, 1 thread, bunny / sponza / conference):
-  /// 3-15% more Mrays/s on most ray kinds (conference primary -8%), 30% less memory, 25-30% faster builds. 7.5 -> 3
-  /// (the same bench over the four shared scenes and the three stress scenes, in one run each): primary +1-22% but
-  /// Sponza -1%, diffuse +7-24%, shadow +4-26%, 10-32% less memory and 17-30% faster builds; 2 was better still on
-  /// bunny and dragon but 14-27% slower on Sponza, conference and teapot-in-a-stadium camera rays.
+  /// K_I is the cost of one Triangle4 block, which is cheap next to a step, so K_I is low: smaller values pay on
+  /// small meshes but cost architectural scenes (BENCHMARKS.md, "Option choices", has the runs behind 15 and 3).
   float traversal_cost = 15.0f;
   float intersection_cost = 3.0f;
   /// SAH: fraction of the cost saved when a split cuts off an empty child (Wald & Havran use 0.2).
@@ -120,7 +116,7 @@ class KdTree final : public AcceleratorImpl<KdTree> {
   void build(const Scene& scene) override;
   std::size_t memory_bytes() const override {
     return data_.nodes.size() * sizeof(KdNode) + data_.prim_indices.size() * sizeof(std::uint32_t) +
-           block_first_.size() * sizeof(std::uint32_t) + blocks_.size() * sizeof(wide::Triangle4);
+           block_first_.size() * sizeof(std::uint32_t) + blocks_.size() * sizeof(simd::Triangle4);
   }
   std::vector<BuildStatistic> build_statistics() const override;
   std::vector<std::string> validate() const override;
@@ -129,26 +125,18 @@ class KdTree final : public AcceleratorImpl<KdTree> {
   /// Clips the ray to the root cell, then walks the cells it crosses front to back (segment_traversal.h).
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    if (avx2_) {
-      trace_avx2<AnyHit>(ray, hit, stats);
-    } else if (options_.mailbox) {
-      trace_cells<wide::Sse4, AnyHit, true>(ray, hit, stats);
-    } else {
-      trace_cells<wide::Sse4, AnyHit, false>(ray, hit, stats);
-    }
+    simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+      if (options_.mailbox) {
+        trace_cells<Lanes, AnyHit, true>(ray, hit, stats);
+      } else {
+        trace_cells<Lanes, AnyHit, false>(ray, hit, stats);
+      }
+    });
   }
 
  private:
-  template <bool AnyHit, class Stats>
-  __attribute__((target("avx2"), flatten)) void trace_avx2(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    if (options_.mailbox) {
-      trace_cells<wide::Avx8, AnyHit, true>(ray, hit, stats);
-    } else {
-      trace_cells<wide::Avx8, AnyHit, false>(ray, hit, stats);
-    }
-  }
   template <class Lanes, bool AnyHit, bool Mailbox, class Stats>
-  void trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  RAYACCEL_LANE_INLINE void trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const;
   /// Copies each leaf's triangles into Triangle4 blocks (triangle meshes only).
   void build_blocks(const Scene& scene);
   void validate_blocks(ProblemList& report) const;
@@ -159,24 +147,24 @@ class KdTree final : public AcceleratorImpl<KdTree> {
   /// Triangle meshes: node i's leaf blocks are blocks_[block_first_[i] .. block_first_[i + 1]) (empty for interior
   /// nodes); the copy of data_.prim_indices that traversal reads. Empty for other primitive kinds.
   std::vector<std::uint32_t> block_first_;
-  std::vector<wide::Triangle4> blocks_;
-  bool avx2_ = false;  ///< blocks are tested two at a time with AVX2
-  std::uint32_t skipped_coincident_ = 0;
+  std::vector<simd::Triangle4> blocks_;
+  /// Instruction set of the block tests (AVX2 at most: two blocks at a time; sse2: one, or no blocks at all).
+  simd::Isa isa_ = simd::Isa::sse2;
   double build_ms_ = 0.0;
 };
 
 template <class Lanes, bool AnyHit, bool Mailbox, class Stats>
-void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+RAYACCEL_LANE_INLINE void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
   float t0 = ray.t_min, t1 = ray.t_max;
   if (data_.nodes.empty() || !clip_ray_to_box(ray, data_.bounds, t0, t1)) return;
   // clip_ray_to_box widens only the far end; widen the near end too so no cell near the entry face is skipped.
   t0 = fmax_inline(ray.t_min, t0 * (t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp));
   RayMailbox<Mailbox> mailbox;
-  wide::BlockMailbox block_mailbox;
-  const wide::TrianglePacket<Lanes> packet(ray);
+  simd::BlockMailbox block_mailbox;
+  const simd::TrianglePacket<Lanes> packet(ray);
   const bool blocked = !block_first_.empty();
   const KdNode* nodes = data_.nodes.data();
-  traverse_segments(0, t0, t1, hit, [&](const SegmentEntry& entry, ChildSegments& children) {
+  traverse_segments(0, t0, t1, hit, [&](const SegmentEntry& entry, ChildSegments& children) RAYACCEL_LANE_LAMBDA {
     const KdNode& node = nodes[entry.node];
     stats.visit_node();
     if (!node.is_leaf()) {
@@ -194,7 +182,7 @@ void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     if (blocked) {
       const std::uint32_t first = block_first_[entry.node];
       const std::uint32_t count = block_first_[entry.node + 1] - first;
-      if (wide::intersect_block_run<Lanes, AnyHit, Mailbox>(packet, ray, blocks_.data() + first, count,
+      if (simd::intersect_block_run<Lanes, AnyHit, Mailbox>(packet, ray, blocks_.data() + first, count,
                                                             block_mailbox, hit, stats) &&
           AnyHit) {
         return SegmentVisit::stop;

@@ -72,7 +72,7 @@ Options resolve_options(const AcceleratorInfo& info, const std::map<std::string,
 std::unique_ptr<Accelerator> make_accelerator(std::string_view spec);
 
 /// Registration hooks, one per structure module, called in this order by accelerator_registry() (see
-/// src/accel/builtin_registry.cpp).
+/// src/catalog/builtin_registry.cpp, the one file above every structure).
 void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry);
 
 }  // namespace rayaccel

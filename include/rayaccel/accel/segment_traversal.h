@@ -10,6 +10,7 @@
 
 #include "rayaccel/accel/ray_mailbox.h"
 #include "rayaccel/core/hit.h"
+#include "rayaccel/simd/lane_set.h"
 
 namespace rayaccel {
 
@@ -70,7 +71,7 @@ enum class SegmentVisit { descend, leaf_done, stop };
 /// the traversal (any-hit). Entries whose segment starts at or beyond hit.t are skipped: nothing in them can be
 /// closer than the hit already found. Trees must be at most kMaxSegmentDepth deep.
 template <class Visit>
-inline void traverse_segments(std::uint32_t root, float t0, float t1, const Hit& hit, Visit&& visit) {
+RAYACCEL_LANE_INLINE void traverse_segments(std::uint32_t root, float t0, float t1, const Hit& hit, Visit&& visit) {
   SegmentEntry stack[kMaxSegmentDepth];
   int size = 0;
   SegmentEntry current{root, t0, t1};

@@ -1,6 +1,6 @@
 // Uniform grid: one regular grid over the scene with compact cell lists (Lagae & Dutre 2008, "Compact, Fast and
 // Robust Grids for Ray Tracing"), resolution after Wald et al. / Ize et al., and 3D-DDA traversal with mailboxing
-// (Amanatides & Woo 1987). Triangle meshes keep each cell's triangles as Triangle4 blocks (wide/triangle_blocks.h,
+// (Amanatides & Woo 1987). Triangle meshes keep each cell's triangles as Triangle4 blocks (simd/triangle_blocks.h,
 // copies of the vertices) tested with the watertight SIMD kernel, and a bit per cell lets the walk pass empty cells
 // without reading their lists. Also declares the binning helpers the two-level grid reuses.
 #pragma once
@@ -16,23 +16,20 @@
 #include "rayaccel/accel/grid_dda.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/geometry/ray_box.h"
-#include "rayaccel/wide/avx2_kernels.h"
-#include "rayaccel/wide/simd_kernels.h"
-#include "rayaccel/wide/triangle_blocks.h"
+#include "rayaccel/simd/dispatch.h"
+#include "rayaccel/simd/triangle_blocks.h"
 
 namespace rayaccel {
 
 struct UniformGridOptions {
   /// Cells per axis ~ density * cbrt(n) for a cubic box (about density^3 cells per primitive). The default 3 is the
-  /// classic rule (and this project's specification); with Triangle4 blocks fewer, fuller cells pay better:
-  /// `grid:density=1,blocks=true,mailbox=false` (rayaccel bench, 1 thread, res 256, bunny / sponza / conference,
-  /// density 3 -> 1 with blocks: primary 0.76 -> 1.7, 0.33 -> 0.45-0.69, 0.23 -> 0.43-0.64 Mrays/s; memory 23 -> 6,
-  /// 169 -> 28, 115 -> 23 MB). At density 3 blocks do not pay (memory grows 3-5x for little gain), so they are off
-  /// by default.
+  /// classic rule (and this project's specification); with Triangle4 blocks fewer, fuller cells pay better
+  /// (`grid:density=1,blocks=true,mailbox=false`: faster and a fraction of the memory). At density 3 blocks do not
+  /// pay (memory grows for little gain), so they are off by default. Figures: BENCHMARKS.md, "Option choices".
   double density = 3.0;
   bool exact = true;  ///< triangles: drop references whose triangle misses the cell (SAT); others use boxes
   /// Skip primitives this ray tested in a recent cell; with blocks, a block whose triangles were all tested (with
-  /// blocks the check costs more than it saves: equal or up to 1.6x slower in the bench above).
+  /// blocks the check costs more than it saves, see BENCHMARKS.md).
   bool mailbox = true;
   bool blocks = false;             ///< triangles: cells hold Triangle4 blocks tested with SIMD; else id lists
   int max_resolution = 1024;       ///< cells per axis at most
@@ -86,20 +83,13 @@ class UniformGrid final : public AcceleratorImpl<UniformGrid> {
   /// (hit.t <= cell exit); cells are padded at build time, so a hit just beyond the exit keeps the walk going.
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    if (avx2_) {
-      trace_avx2<AnyHit>(ray, hit, stats);
-    } else {
-      trace_cells<wide::Sse4, AnyHit>(ray, hit, stats);
-    }
+    simd::run_with_lanes(isa_,
+                         [&]<class Lanes>() RAYACCEL_LANE_LAMBDA { trace_cells<Lanes, AnyHit>(ray, hit, stats); });
   }
 
  private:
-  template <bool AnyHit, class Stats>
-  __attribute__((target("avx2"), flatten)) void trace_avx2(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    trace_cells<wide::Avx8, AnyHit>(ray, hit, stats);
-  }
   template <class Lanes, bool AnyHit, class Stats>
-  void trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  RAYACCEL_LANE_INLINE void trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const;
   /// The id lists of every cell, from lists_ or, with blocks, read back from them.
   CellLists cell_lists() const;
 
@@ -112,16 +102,16 @@ class UniformGrid final : public AcceleratorImpl<UniformGrid> {
   CellLists lists_;  ///< id lists; empty when the cells hold blocks
   /// With blocks: cell c holds blocks_[block_first_[c] .. block_first_[c + 1]).
   std::vector<std::uint32_t> block_first_;
-  std::vector<wide::Triangle4> blocks_;
+  std::vector<simd::Triangle4> blocks_;
   std::vector<std::uint64_t> occupied_;  ///< bit c: cell c holds something
-  bool avx2_ = false;
-  std::uint32_t skipped_coincident_ = 0;
+  /// Instruction set of the block tests (AVX2 at most: two blocks at a time; sse2: one, or no blocks at all).
+  simd::Isa isa_ = simd::Isa::sse2;
   std::size_t references_ = 0;
   std::size_t prim_count_ = 0;
 };
 
 template <class Lanes, bool AnyHit, class Stats>
-void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+RAYACCEL_LANE_INLINE void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
   if (empty_) return;
   float t0 = ray.t_min, t1 = ray.t_max;
   if (!clip_ray_to_box(ray, frame_.box, t0, t1)) return;
@@ -131,8 +121,8 @@ void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) co
     return;
   }
   RayMailbox<true> mailbox;
-  wide::BlockMailbox block_mailbox;
-  const wide::TrianglePacket<Lanes> packet(ray);
+  simd::BlockMailbox block_mailbox;
+  const simd::TrianglePacket<Lanes> packet(ray);
   const bool blocked = !block_first_.empty();
   const std::uint64_t* occupied = occupied_.data();
   for (;;) {
@@ -142,12 +132,12 @@ void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) co
       if (blocked) {
         const std::uint32_t first = block_first_[c];
         const std::uint32_t count = block_first_[c + 1] - first;
-        const wide::Triangle4* blocks = blocks_.data() + first;
+        const simd::Triangle4* blocks = blocks_.data() + first;
         const bool found =
             options_.mailbox
-                ? wide::intersect_block_run<Lanes, AnyHit, true>(packet, ray, blocks, count, block_mailbox,
+                ? simd::intersect_block_run<Lanes, AnyHit, true>(packet, ray, blocks, count, block_mailbox,
                                                                  hit, stats)
-                : wide::intersect_block_run<Lanes, AnyHit, false>(packet, ray, blocks, count, block_mailbox,
+                : simd::intersect_block_run<Lanes, AnyHit, false>(packet, ray, blocks, count, block_mailbox,
                                                                   hit, stats);
         if (AnyHit && found) return;
       } else {

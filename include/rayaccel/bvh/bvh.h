@@ -16,7 +16,7 @@
 #include "rayaccel/bv/bounding_volume.h"
 #include "rayaccel/bvh/build_tree.h"
 #include "rayaccel/bvh/sbvh_builder.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/geometry/clip_polygon.h"
 #include "rayaccel/geometry/ray_triangle.h"
 

@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 

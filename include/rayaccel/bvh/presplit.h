@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "rayaccel/core/primitives.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 

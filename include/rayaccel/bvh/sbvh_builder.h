@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "rayaccel/bvh/build_tree.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 

@@ -11,36 +11,12 @@
 
 namespace rayaccel {
 
-/// Keeps the part of the convex polygon in[0..n) where dot(normal, p) <= offset (points on the plane are kept) and
-/// writes it to `out`, which must have room for n + 1 vertices. Returns the vertex count of the result (0 when
-/// nothing is left). Signed distances and crossing points are computed in double; `in` and `out` must not alias.
-inline int clip_polygon_to_halfspace(const Vec3* in, int n, const Vec3& normal, double offset, Vec3* out) {
-  auto distance = [&](const Vec3& p) {
-    return double(normal.x) * p.x + double(normal.y) * p.y + double(normal.z) * p.z - offset;
-  };
-  int count = 0;
-  for (int i = 0; i < n; ++i) {
-    const Vec3& a = in[i];
-    const Vec3& b = in[(i + 1) % n];
-    const double da = distance(a), db = distance(b);
-    if (da <= 0.0) out[count++] = a;
-    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
-      const double s = da / (da - db);
-      out[count++] = Vec3{float(a.x + s * (double(b.x) - a.x)), float(a.y + s * (double(b.y) - a.y)),
-                          float(a.z + s * (double(b.z) - a.z))};
-    }
-  }
-  return count;
-}
-
-/// Keeps the part of the convex polygon in[0..n) on one side of the plane p[axis] == position: below (p[axis] <=
-/// position) when keep_below, else above. Crossing points get exactly `position` on `axis`. `out` needs room for
-/// n + 1 vertices; `in` and `out` must not alias. Returns the vertex count of the result.
-inline int clip_polygon_to_axis_plane(const Vec3* in, int n, int axis, float position, bool keep_below, Vec3* out) {
-  auto distance = [&](const Vec3& p) {
-    const double d = double(p[axis]) - position;
-    return keep_below ? d : -d;
-  };
+/// The Sutherland-Hodgman step over in[0..n): keeps each vertex with distance(p) <= 0 and, where an edge's signed
+/// distances have strictly opposite signs, its crossing point (interpolated in double, then passed through
+/// on_crossing, which may snap it). Writes at most n + 1 vertices to `out` (`in` and `out` must not alias); returns
+/// their count.
+template <class Distance, class OnCrossing>
+inline int clip_polygon_by(const Vec3* in, int n, const Distance& distance, const OnCrossing& on_crossing, Vec3* out) {
   int count = 0;
   for (int i = 0; i < n; ++i) {
     const Vec3& a = in[i];
@@ -51,11 +27,32 @@ inline int clip_polygon_to_axis_plane(const Vec3* in, int n, int axis, float pos
       const double s = da / (da - db);
       Vec3 p{float(a.x + s * (double(b.x) - a.x)), float(a.y + s * (double(b.y) - a.y)),
              float(a.z + s * (double(b.z) - a.z))};
-      p[axis] = position;
+      on_crossing(p);
       out[count++] = p;
     }
   }
   return count;
+}
+
+/// Keeps the part of the convex polygon in[0..n) where dot(normal, p) <= offset (points on the plane are kept) and
+/// writes it to `out`, which must have room for n + 1 vertices. Returns the vertex count of the result (0 when
+/// nothing is left). Signed distances and crossing points are computed in double; `in` and `out` must not alias.
+inline int clip_polygon_to_halfspace(const Vec3* in, int n, const Vec3& normal, double offset, Vec3* out) {
+  const auto distance = [&](const Vec3& p) {
+    return double(normal.x) * p.x + double(normal.y) * p.y + double(normal.z) * p.z - offset;
+  };
+  return clip_polygon_by(in, n, distance, [](Vec3&) {}, out);
+}
+
+/// Keeps the part of the convex polygon in[0..n) on one side of the plane p[axis] == position: below (p[axis] <=
+/// position) when keep_below, else above. Crossing points get exactly `position` on `axis`. `out` needs room for
+/// n + 1 vertices; `in` and `out` must not alias. Returns the vertex count of the result.
+inline int clip_polygon_to_axis_plane(const Vec3* in, int n, int axis, float position, bool keep_below, Vec3* out) {
+  const auto distance = [&](const Vec3& p) {
+    const double d = double(p[axis]) - position;
+    return keep_below ? d : -d;
+  };
+  return clip_polygon_by(in, n, distance, [&](Vec3& p) { p[axis] = position; }, out);
 }
 
 /// Box widened on every side by a small relative margin (2^-20 of the largest coordinate magnitude per axis, plus

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/core/vec3.h"
 
 namespace rayaccel {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/core/stats.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/heatmap.h"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/image.h"
 #include "rayaccel/render/image_sampler.h"

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
 

@@ -15,21 +15,28 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
-#include "rayaccel/accel/registry.h"
 #include "rayaccel/bvh/binned_sah_builder.h"
 #include "rayaccel/bvh/build_tree.h"
 #include "rayaccel/core/huge_page_allocator.h"
-#include "rayaccel/wide/avx2_kernels.h"
-#include "rayaccel/wide/simd_kernels.h"
-#include "rayaccel/wide/triangle_blocks.h"
+#include "rayaccel/simd/box_kernel.h"
+#include "rayaccel/simd/dispatch.h"
+#include "rayaccel/simd/triangle_blocks.h"
 #include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
 
-/// Instruction set of the eight-wide traversal. best: where the CPU has AVX-512 (F, VL, DQ, BW), the AVX2 kernels
-/// compiled for it: the same 256-bit operations with the same results, EVEX-encoded, with 32 vector registers
-/// instead of 16 so the per-ray constants of the box and triangle tests stay in registers; AVX2 otherwise. avx2: the
-/// AVX2 build even on an AVX-512 CPU (so tests cover both).
+// The SIMD layer's kernels and blocks, under the names the wide BVH has always used.
+using simd::BlockMailbox;
+using simd::BoxKernel;
+using simd::Triangle4;
+using simd::TrianglePacket;
+
+/// Traversal pushes at most W-1 entries per level; collapsing never adds levels to the binary tree's kBvhMaxDepth.
+inline constexpr int kStackSize = 7 * kBvhMaxDepth + 8;
+
+/// Instruction set of the eight-wide traversal. best: the best this CPU runs (simd::best_isa: the AVX-512 build of
+/// the AVX2 kernels where the CPU has it, see simd/isa.h); avx2: the AVX2 build even on an AVX-512 CPU (so tests
+/// cover both).
 enum class WideIsa { best, avx2 };
 
 struct WideBvhConfig {
@@ -39,32 +46,24 @@ struct WideBvhConfig {
   WideIsa isa = WideIsa::best;
   /// The binary tree that is collapsed: binned SAH whose leaves hold up to two Triangle4 blocks, costed per block
   /// (four triangles are tested for the price of one, so the SAH charges 1 per started block of 4, as Embree's
-  /// builders do). Measured against 0.3 per triangle with leaves of at most 4 (rayaccel bench, 1 thread, bunny,
-  /// conference, dragon): about the same rays per second, 15-28% less memory and 10-30% faster builds, because
-  /// blocks are full (fill 0.76 -> 0.9+) and there are fewer leaves and nodes.
+  /// builders do): full blocks mean fewer leaves and nodes, so less memory and faster builds for the same rays per
+  /// second (BENCHMARKS.md, "Option choices").
   BinnedSahConfig binary{
       .max_leaf_size = 8, .costs = {.traversal = 1.0f, .intersection = 1.0f}, .bin_count = 16, .block_size = 4};
   /// Triangle pre-splitting before the binary build (Karras & Aila 2013, see bvh/presplit.h): extra references as a
   /// fraction of the triangle count, 0..4; 0 builds over one reference per triangle. Ignored for other primitives.
-  /// 0.1 takes most of the gain on architectural scenes (Crytek Sponza: half the primitive tests per ray) for about
-  /// a third more build time; larger fractions add build time and memory for little more (see BENCHMARKS.md).
+  /// 0.1 takes most of the gain on architectural scenes for a moderate build-time cost; larger fractions add build
+  /// time and memory for little more (BENCHMARKS.md).
   float presplit = 0.1f;
   /// Pre-split only scenes whose presplit_potential() (bvh/presplit.h) is at least this; 0 pre-splits every triangle
-  /// scene. Measured (BENCHMARKS.md): pre-splitting paid on Crytek Sponza (potential 5.5) and cost build time for no
-  /// trace gain on the bunny, dragon, soup and teapot-in-a-stadium scenes (0.03-0.27; on teapot-in-a-stadium it was
-  /// slower) and on the conference room (3.2; three sets of runs, the trace speed within the noise, the build 25-40%
-  /// slower). 4 lies between the conference room and Sponza. Slivers (374) are above it, though 0.1 buys them no
-  /// trace speed either: only larger budgets pay there.
+  /// scene. Pre-splitting paid on Crytek Sponza and cost build time for no trace gain on scenes of low potential and
+  /// on the conference room; 4 lies between the conference room and Sponza (potentials and runs: BENCHMARKS.md,
+  /// "Option choices").
   float presplit_threshold = 4.0f;
 };
 
 template <int W>
 using NodeArray = std::vector<Node<W>, HugePageAllocator<Node<W>>>;
-
-/// True when this CPU runs the AVX2 kernels.
-bool cpu_has_avx2();
-/// True when this CPU runs the kernels compiled for AVX-512 (F, VL, DQ and BW).
-bool cpu_has_avx512();
 
 class WideBvh final : public AcceleratorImpl<WideBvh> {
  public:
@@ -84,21 +83,23 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    if (avx512_) {
-      trace_avx512<AnyHit>(ray, hit, stats);
-    } else if (width_ == 8) {
-      trace_avx2<AnyHit>(ray, hit, stats);
-    } else {
-      traverse<BoxKernel4, AnyHit>(nodes4_, ray, hit, stats);
-    }
+    // Eight lanes (AVX2 or its AVX-512 build) test eight-wide nodes, four SSE2 lanes four-wide ones.
+    simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+      if constexpr (Lanes::kWidth == 8) {
+        traverse<BoxKernel<Lanes>, AnyHit>(nodes8_, ray, hit, stats);
+      } else {
+        traverse<BoxKernel<Lanes>, AnyHit>(nodes4_, ray, hit, stats);
+      }
+    });
   }
 
  private:
   template <int W>
   std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, NodeArray<W>& nodes);
   std::uint32_t emit_leaf(const BuildTree& tree, std::uint32_t binary_node);
+  /// Boxes of every binary node (children after their parent, as every builder stores them).
+  static HugePageVector<AABB> binary_node_bounds(const BuildTree& tree);
   struct LeafIdCounts {
-    std::uint32_t coincident = 0;  ///< triangles with coincident vertices (never hit) left out
     std::uint32_t repeats = 0;     ///< further pieces of a pre-split primitive already in the leaf
   };
   /// The primitives a binary leaf contributes, each once; `dropped` counts what was left out.
@@ -108,29 +109,19 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
-  template <bool AnyHit, class Stats>
-  __attribute__((target("avx2"), flatten)) void trace_avx2(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
-  }
-  template <bool AnyHit, class Stats>
-  __attribute__((target("avx2,avx512f,avx512vl,avx512dq,avx512bw"), flatten)) void trace_avx512(
-      const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    traverse<BoxKernel8, AnyHit>(nodes8_, ray, hit, stats);
-  }
-  /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count).
+  /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count) (wide_bvh_packets.cpp).
   template <class S>
-  void trace_packet(const Ray* rays, int count, Hit* hits) const;
-  void trace_packet_avx2(const Ray* rays, int count, Hit* hits) const;
-  void trace_packet_avx512(const Ray* rays, int count, Hit* hits) const;
+  RAYACCEL_LANE_INLINE void trace_packet(const Ray* rays, int count, Hit* hits) const;
   template <class Kernel, bool AnyHit, class Stats>
-  void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit,
+                                     Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
-  bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
-                      Stats& stats) const;
+  RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet,
+                                           const PreparedRay& ray, Hit& hit, Stats& stats) const;
 
   WideBvhConfig config_;
   int width_ = 4;
-  bool avx512_ = false;  ///< width 8 with the AVX-512 build of the kernels
+  simd::Isa isa_ = simd::Isa::sse2;  ///< width 8: avx2 or avx512 (the AVX-512 build of the kernels); width 4: sse2
   const Scene* scene_ = nullptr;
   bool triangles_ = true;  ///< false: blocks hold only ids, tested through Scene::intersect
   // Large arrays on transparent huge pages where the system has them (fewer page faults and TLB misses).
@@ -146,9 +137,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   };
   HugePageVector<PendingLeaf> pending_leaves_;  ///< build-time only: leaves whose blocks fill_leaves() writes
   HugePageVector<std::uint32_t> pending_ids_;  ///< build-time only: primitives of the pending leaves
-  std::vector<std::uint8_t> coincident_;     ///< build-time only: triangles with coincident vertices (never hit)
   int depth_ = 0;
-  std::uint32_t skipped_degenerate_ = 0;
   bool spatial_splits_ = false;         ///< built from a tree with spatial splits: validate() allows repeats
   std::uint32_t references_ = 0;        ///< references of the binary tree
   std::uint32_t split_triangles_ = 0;   ///< triangles pre-split into several references
@@ -158,8 +147,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
 /// Tests a leaf's blocks: two at a time when Lanes is eight wide (AVX2), one at a time with SSE otherwise.
 template <class Lanes, bool AnyHit, class Stats>
-inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet, const PreparedRay& ray,
-                                    Hit& hit, Stats& stats) const {
+RAYACCEL_LANE_INLINE bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet,
+                                                  const PreparedRay& ray, Hit& hit, Stats& stats) const {
   std::uint32_t b = leaf_first_block(ref);
   const std::uint32_t end = b + leaf_block_count(ref);
   bool found = false;
@@ -175,11 +164,11 @@ inline bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Lane
     return found;
   }
   BlockMailbox unused;  // no mailbox: a primitive is in one leaf, or once per leaf (pre-split pieces)
-  return intersect_block_run<Lanes, AnyHit, false>(packet, ray, &blocks_[b], end - b, unused, hit, stats);
+  return simd::intersect_block_run<Lanes, AnyHit, false>(packet, ray, &blocks_[b], end - b, unused, hit, stats);
 }
 
 template <class Kernel, bool AnyHit, class Stats>
-inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit,
+RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit,
                               Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (root_ == kEmptyChild) return;
@@ -278,7 +267,5 @@ inline void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const Prep
     }
   }
 }
-
-void register_wide_bvh(std::vector<AcceleratorInfo>& registry);
 
 }  // namespace rayaccel::wide

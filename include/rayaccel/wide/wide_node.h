@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "rayaccel/bvh/build_tree.h"
+#include "rayaccel/core/aabb.h"
 
 namespace rayaccel::wide {
 
@@ -21,10 +21,28 @@ inline constexpr std::uint32_t kLeafBit = 0x80000000u;
 inline constexpr std::uint32_t kBlockShift = 3;            ///< low 3 bits: block count - 1
 inline constexpr std::uint32_t kMaxLeafBlocks = 8;         ///< at most 32 primitives per leaf
 inline constexpr std::uint32_t kEmptyChild = 0xFFFFFFFFu;  ///< never followed: its box is empty
-/// Traversal pushes at most W-1 entries per level; collapsing never adds levels to the binary tree's kBvhMaxDepth.
-inline constexpr int kStackSize = 7 * kBvhMaxDepth + 8;
 
 inline std::uint32_t leaf_first_block(std::uint32_t ref) { return (ref & ~kLeafBit) >> kBlockShift; }
 inline std::uint32_t leaf_block_count(std::uint32_t ref) { return (ref & ((1u << kBlockShift) - 1)) + 1; }
+
+/// Writes child `lane`'s box into the node's SoA bounds.
+template <int W>
+void set_child_bounds(Node<W>& node, int lane, const AABB& box) {
+  for (int a = 0; a < 3; ++a) {
+    node.bounds[a][0][lane] = box.lo[a];
+    node.bounds[a][1][lane] = box.hi[a];
+  }
+}
+
+/// Child `lane`'s box, read back from the node's SoA bounds.
+template <int W>
+AABB child_bounds(const Node<W>& node, int lane) {
+  AABB box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = node.bounds[a][0][lane];
+    box.hi[a] = node.bounds[a][1][lane];
+  }
+  return box;
+}
 
 }  // namespace rayaccel::wide

@@ -1,4 +1,5 @@
-// The list of built-in structures, in the order `rayaccel list` shows them. Each module adds one line here.
+// The catalog: the list of built-in structures, in the order `rayaccel list` shows them. Each module adds one line
+// here; the one file of the library that includes every structure (the top layer, see scripts/check_layers.py).
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/bsp_tree.h"
 #include "rayaccel/accel/kd_tree.h"
@@ -6,7 +7,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/two_level_grid.h"
 #include "rayaccel/accel/uniform_grid.h"
-#include "rayaccel/wide/wide_bvh.h"
+#include "rayaccel/wide/wide_bvh_registry.h"
 #include "rayaccel/bvh/bvh_registry.h"
 
 namespace rayaccel {

@@ -1,207 +1,28 @@
-// SIMD kernels of the wide BVH, written once over a set of lane operations (Sse4 here: four SSE2 lanes; Avx8 in
-// avx2_kernels.h): one ray against a node's child boxes (robust slab test, Ize 2013) and one ray against four or
-// eight triangles (the watertight test of Woop, Benthin, Wald 2013, lane-for-lane the same float operations as
-// geometry/ray_triangle.h, so results are bit-identical to the scalar kernel).
+// The watertight ray/triangle test (Woop, Benthin, Wald 2013) in SIMD lanes, written once over a lane set (Sse4,
+// Avx8): one ray against four or eight triangles of Triangle4 blocks, or one triangle against a packet of rays. Lane
+// for lane the same float operations as geometry/ray_triangle.h, so results are bit-identical to the scalar kernel.
 #pragma once
 
-#include <emmintrin.h>
-
-#include <algorithm>
-#include <cmath>
 #include <cstdint>
-#include <limits>
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
-#include "rayaccel/geometry/ray_box.h"
 #include "rayaccel/geometry/ray_triangle.h"
-#include "rayaccel/wide/wide_node.h"
+#include "rayaccel/simd/lane_set.h"
+#include "rayaccel/simd/lanes_sse.h"
+#include "rayaccel/simd/triangle4.h"
 
-namespace rayaccel::wide {
+namespace rayaccel::simd {
 
-/// Four triangles in SoA form: vertex[v][axis][lane]. Unused lanes hold prim kInvalidPrimId and a zero triangle
-/// (a point, which the watertight test never hits).
-struct alignas(16) Triangle4 {
-  float vertex[3][3][4];
-  std::uint32_t prim_id[4];
-};
-static_assert(sizeof(Triangle4) == 160, "Triangle4: 144 bytes of vertices + 16 bytes of ids");
-
-/// The SIMD operations the triangle test is written over, four lanes of SSE2 (every x86-64 CPU has it); the eight
-/// lane AVX2 set is in avx2_kernels.h. A test over W lanes reads W / 4 Triangle4 blocks.
-struct Sse4 {
-  static constexpr int kWidth = 4;
-  using F = __m128;
-  static F set1(float x) { return _mm_set1_ps(x); }
-  static F zero() { return _mm_setzero_ps(); }
-  static F all_ones() { return _mm_castsi128_ps(_mm_set1_epi32(-1)); }
-  static F add(F a, F b) { return _mm_add_ps(a, b); }
-  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
-  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
-  static F div(F a, F b) { return _mm_div_ps(a, b); }
-  static F max(F a, F b) { return _mm_max_ps(a, b); }
-  static F min(F a, F b) { return _mm_min_ps(a, b); }
-  static F load(const float* p) { return _mm_load_ps(p); }  ///< 16-byte aligned
-  static F bit_and(F a, F b) { return _mm_and_ps(a, b); }
-  static F bit_or(F a, F b) { return _mm_or_ps(a, b); }
-  static F and_not(F a, F b) { return _mm_andnot_ps(a, b); }  ///< ~a & b
-  static F eq(F a, F b) { return _mm_cmpeq_ps(a, b); }
-  static F neq(F a, F b) { return _mm_cmpneq_ps(a, b); }
-  static F lt(F a, F b) { return _mm_cmplt_ps(a, b); }
-  static F le(F a, F b) { return _mm_cmple_ps(a, b); }
-  static F gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
-  static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }
-  static int movemask(F a) { return _mm_movemask_ps(a); }
-  static void store(float* p, F a) { _mm_storeu_ps(p, a); }
-  static F load_vertex(const Triangle4* const* blocks, int v, int axis) {
-    return _mm_load_ps(blocks[0]->vertex[v][axis]);
-  }
-  /// All-ones in lanes that hold no triangle.
-  static F padding(const Triangle4* const* blocks) {
-    const __m128i ids = _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id));
-    return _mm_castsi128_ps(_mm_cmpeq_epi32(ids, _mm_set1_epi32(-1)));
-  }
-};
-
-/// The origin the wide box tests use, and the slack that makes up for it. A ray leaving an exact point on a plane at
-/// 0 (a floor at y = 0, say) starts a subnormal distance from it (pbrt-style origin offsets give 2^-149), and
-/// (plane - origin) * 1/d then computes with subnormals at every node, which costs a microcode assist per operation
-/// (teapot_stadium's secondary rays spent 14% of their time in one such multiply). Such a coordinate (0 < |o| <
-/// FLT_MIN, on an axis the ray is not parallel to) is replaced by 0 for the box tests only, which moves that axis's
-/// slab distances by s = o/d exactly; the interval is then widened by slab_shift >= 4|s| (and at least FLT_MIN, so the
-/// widening itself is normal arithmetic) on both ends, after the relative widening by the factors below, which are
-/// 8u looser than kSlabWiden* so the rounding of those additions is covered too (the bound is worked out in
-/// BoxKernel::intersect). Only for rays with t_min >= 0 (the box kernels' short path); other rays keep their origin.
-struct BoxTestOrigin {
-  Vec3 origin;
-  float slab_shift = 0.0f;  ///< 0: the ray's own origin, nothing to add
-  float widen_down = kSlabWidenDown;
-  float widen_up = kSlabWidenUp;
-
-  explicit BoxTestOrigin(const PreparedRay& r) : origin(r.origin) {
-    if (!(r.t_min >= 0.0f)) return;
-    constexpr float kMinNormal = std::numeric_limits<float>::min();
-    float shift = 0.0f;
-    bool moved = false;
-    for (int a = 0; a < 3; ++a) {
-      const float o = r.origin[a];
-      if (o == 0.0f || !(std::fabs(o) < kMinNormal) || std::isinf(r.inv_direction[a])) continue;
-      origin[a] = 0.0f;
-      moved = true;
-      // 4 |o / d| <= 4 * FLT_MIN * |1/d| (1 + u): bounded through FLT_MIN, as multiplying o itself would be a
-      // subnormal operation too.
-      shift = std::max(shift, 0x1p-123f * std::fabs(r.inv_direction[a]));
-    }
-    if (!moved) return;
-    slab_shift = std::max(shift, kMinNormal);
-    widen_down = kSlabWidenDown - 0x1p-21f;
-    widen_up = kSlabWidenUp + 0x1p-21f;
-  }
-};
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-/// Per-ray constants of the box test over S's lanes (Sse4: four children, Avx8: eight), splatted once per ray. With
-/// eight lanes, used only inside AVX2 functions, as TrianglePacket below.
-template <class S>
-struct BoxPacket {
-  typename S::F origin[3];
-  typename S::F inv_direction[3];
-  typename S::F t_min;
-  typename S::F widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
-  int near_offset[3];       ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
-  bool t_min_non_negative;  ///< then every entry distance is >= 0 and the widening needs no per-lane sign test
-  bool shifted;             ///< slab_shift != 0: the origin was moved off subnormal coordinates
-
-  explicit BoxPacket(const PreparedRay& r) {
-    const BoxTestOrigin box_origin(r);
-    for (int a = 0; a < 3; ++a) {
-      origin[a] = S::set1(box_origin.origin[a]);
-      inv_direction[a] = S::set1(r.inv_direction[a]);
-      near_offset[a] = r.negative[a];
-    }
-    t_min = S::set1(r.t_min);
-    widen_down = S::set1(box_origin.widen_down);
-    widen_up = S::set1(box_origin.widen_up);
-    slab_shift = S::set1(box_origin.slab_shift);
-    t_min_non_negative = r.t_min >= 0.0f;
-    shifted = box_origin.slab_shift != 0.0f;
-  }
-};
-
-/// One ray against the S::kWidth child boxes of a node (robust slab test, Ize 2013), in the form the width-generic
-/// traversal calls: returns the lane mask of the boxes whose clipped interval meets [t_min, t_far], entry distances
-/// to t_entry. max/min return their second operand when either is NaN, so the running bound goes second and a NaN
-/// slab distance (ray in a face plane) constrains nothing, as in clip_ray_to_box().
-template <class S>
-struct BoxKernel {
-  static constexpr int kWidth = S::kWidth;
-  using Lanes = S;  ///< lanes of the leaf test used with this node width
-  using Packet = BoxPacket<S>;
-  using F = typename S::F;
-
-  static Packet prepare(const PreparedRay& r) { return Packet(r); }
-
-  /// Moves each lane away from the interval's inside by 2*gamma(3): by `non_negative_factor` where t >= 0, by
-  /// `negative_factor` elsewhere. Monotone, so it may follow the max/min reductions instead of each slab distance.
-  /// In place: a function returning an AVX value from code built without AVX would change the ABI (-Wpsabi).
-  static void widen(F& t, float non_negative_factor, float negative_factor) {
-    const F non_negative = S::ge(t, S::zero());
-    t = S::mul(t, S::bit_or(S::bit_and(non_negative, S::set1(non_negative_factor)),
-                            S::and_not(non_negative, S::set1(negative_factor))));
-  }
-
-  static int intersect(const Packet& ray, const Node<kWidth>& node, float t_far_scalar, float* t_entry) {
-    F t_near = ray.t_min;
-    F t_far = S::set1(t_far_scalar);
-    for (int a = 0; a < 3; ++a) {
-      const F near_plane = S::load(node.bounds[a][ray.near_offset[a]]);
-      const F far_plane = S::load(node.bounds[a][1 - ray.near_offset[a]]);
-      const F t0 = S::mul(S::sub(near_plane, ray.origin[a]), ray.inv_direction[a]);
-      const F t1 = S::mul(S::sub(far_plane, ray.origin[a]), ray.inv_direction[a]);
-      t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound (second operand)
-      t_far = S::min(t1, t_far);
-    }
-    if (ray.t_min_non_negative) {
-      // t_near >= t_min >= 0 in every lane, so it widens by the non-negative factor; t_far widens by its own
-      // non-negative factor too: where t_far < 0 either factor leaves it negative, below t_near, and the lane misses
-      // as it would have (the same masks and entry distances as the general case, two dependent steps shorter).
-      t_near = S::mul(t_near, ray.widen_down);
-      t_far = S::mul(t_far, ray.widen_up);
-      if (ray.shifted) {
-        // The box origin is the ray's with subnormal coordinates set to 0 (BoxTestOrigin): the exact slab distances
-        // of the ray are those computed, moved by at most |s| <= slab_shift / 4. Why the result still encloses them,
-        // with c >= 0 the computed near distance, tau its exact value for the moved origin (c (1 - gamma3) <= tau,
-        // Ize's bound) and u = 2^-24: c * widen_down rounds to w <= tau - 8uc, so w - slab_shift rounds to at most
-        // tau - slab_shift (1 - u) <= tau - |s|. The far end is the mirror image; a far distance computed below 0
-        // that is exactly >= 0 is at most |s| (1 + 2 gamma3) below 0, and slab_shift >= 4|s| lifts it past.
-        t_near = S::sub(t_near, ray.slab_shift);
-        t_far = S::add(t_far, ray.slab_shift);
-      }
-    } else {
-      widen(t_near, kSlabWidenDown, kSlabWidenUp);
-      widen(t_far, kSlabWidenUp, kSlabWidenDown);
-    }
-    S::store(t_entry, t_near);
-    return S::movemask(S::le(t_near, t_far));
-  }
-};
-#pragma GCC diagnostic pop
-
-using BoxKernel4 = BoxKernel<Sse4>;
-
+RAYACCEL_LANE_CODE_BEGIN
 /// Per-ray constants of the triangle test over S's lanes: the origin and shear in the ray's (kx, ky, kz) frame.
-/// With eight lanes, the packet and the test below are only used inside AVX2 functions (WideBvh::trace_avx2 inlines
-/// everything it calls), so GCC's note that AVX values in code built without AVX change the ABI does not apply.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 template <class S>
 struct TrianglePacket {
   typename S::F origin_k[3];
   typename S::F shear_x, shear_y, shear_z, t_min;
   typename S::F shear_error_x, shear_error_y;  ///< shear_error() of shear_x, shear_y: the edge error bound's factors
   TrianglePacket() = default;  ///< for a packet of rays, one per lane (the packet traversal fills the lanes)
-  explicit TrianglePacket(const PreparedRay& r)
+  RAYACCEL_LANE_INLINE explicit TrianglePacket(const PreparedRay& r)
       : origin_k{S::set1(component(r.origin, r.kx)), S::set1(component(r.origin, r.ky)),
                  S::set1(component(r.origin, r.kz))},
         shear_x(S::set1(r.shear_x)),
@@ -227,8 +48,9 @@ struct WatertightLanes {
 
   /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
   /// functions or by `decided_miss`.
-  bool test(const F px[3], const F py[3], const F pz[3], const F& shear_error_x, const F& shear_error_y,
-            const F& shear_z, const F& t_min, const F& t_far, const F& decided_miss) {
+  RAYACCEL_LANE_INLINE bool test(const F px[3], const F py[3], const F pz[3], const F& shear_error_x,
+                                 const F& shear_error_y, const F& shear_z, const F& t_min, const F& t_far,
+                                 const F& decided_miss) {
     // a = vertex 0, b = vertex 1, c = vertex 2, in the scalar kernel's names.
     const F eu = S::sub(S::mul(px[2], py[1]), S::mul(py[2], px[1]));
     ev = S::sub(S::mul(px[0], py[2]), S::mul(py[0], px[2]));
@@ -296,7 +118,7 @@ struct WatertightLanes {
   }
 
   /// t, u and v of every lane (meaningful in the lanes of `hits`).
-  void store_hits(float* t_lane, float* u_lane, float* v_lane) const {
+  RAYACCEL_LANE_INLINE void store_hits(float* t_lane, float* u_lane, float* v_lane) const {
     S::store(t_lane, t);
     S::store(u_lane, S::mul(ev, inv_det));
     S::store(v_lane, S::mul(ew, inv_det));
@@ -306,8 +128,8 @@ struct WatertightLanes {
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
 /// Returns true on any update. Lanes the float path cannot decide go to the scalar kernel (see WatertightLanes).
 template <class S>
-inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
-                                     const Triangle4* const* blocks, Hit& hit) {
+RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
+                                                   const Triangle4* const* blocks, Hit& hit) {
   using F = typename S::F;
   constexpr int W = S::kWidth;
   const int k[3] = {scalar_ray.kx, scalar_ray.ky, scalar_ray.kz};
@@ -359,9 +181,9 @@ inline bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const Prepare
 /// lane's hit (closest in (t_min, hit.t)) and the lanes of `t_far`, the packet's exclusive far bounds (hit.t per lane).
 /// Returns the lanes whose hit changed.
 template <class S>
-inline int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* scalar_rays, int rays,
-                                   const int axes[3], const Triangle4& block, int i, Hit* hits,
-                                   typename S::F& t_far) {
+RAYACCEL_LANE_INLINE int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* scalar_rays, int rays,
+                                                 const int axes[3], const Triangle4& block, int i, Hit* hits,
+                                                 typename S::F& t_far) {
   using F = typename S::F;
   constexpr int W = S::kWidth;
   F px[3], py[3], pz[3];
@@ -410,13 +232,13 @@ inline int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* s
   }
   return updated;
 }
-#pragma GCC diagnostic pop
 
 /// Tests the four triangles of one block (see intersect_triangle_lanes).
-inline bool intersect_triangles4(const TrianglePacket<Sse4>& ray, const PreparedRay& scalar_ray, const Triangle4& tri,
-                                 Hit& hit) {
+RAYACCEL_LANE_INLINE bool intersect_triangles4(const TrianglePacket<Sse4>& ray, const PreparedRay& scalar_ray,
+                                               const Triangle4& tri, Hit& hit) {
   const Triangle4* blocks[1] = {&tri};
   return intersect_triangle_lanes<Sse4>(ray, scalar_ray, blocks, hit);
 }
+RAYACCEL_LANE_CODE_END
 
-}  // namespace rayaccel::wide
+}  // namespace rayaccel::simd

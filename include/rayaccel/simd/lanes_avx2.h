@@ -1,23 +1,21 @@
-// Eight AVX2 lanes (Avx8) for the kernels of simd_kernels.h: the robust slab test over the eight children of a
-// Node<8> (Ize 2013) and the watertight test of two Triangle4 blocks at once. Every function carries target("avx2")
-// so this header adds no AVX code to callers that run on CPUs without it; the wide BVH calls these kernels only
-// from functions built for AVX2 (or AVX-512), after checking the CPU at run time.
+// Avx8: eight AVX2 lanes for the box and triangle kernels (the slab test over the eight children of a wide node, the
+// watertight test of two Triangle4 blocks at once). Every function carries target("avx2") so this header adds no AVX
+// code to callers that run on CPUs without it; kernels over Avx8 run only inside simd/dispatch.h's AVX entry points.
 #pragma once
 
 #include <immintrin.h>
 
-#include "rayaccel/core/ray.h"
-#include "rayaccel/geometry/ray_box.h"
-#include "rayaccel/wide/simd_kernels.h"
-#include "rayaccel/wide/wide_node.h"
+#include "rayaccel/simd/isa.h"
+#include "rayaccel/simd/lane_set.h"
+#include "rayaccel/simd/triangle4.h"
 
-namespace rayaccel::wide {
+namespace rayaccel::simd {
 
-/// The triangle test's operations over eight AVX2 lanes (see Sse4): one Triangle4 block per 128-bit half.
+/// The kernels' operations over eight AVX2 lanes (see Sse4): one Triangle4 block per 128-bit half.
 struct Avx8 {
   static constexpr int kWidth = 8;
   using F = __m256;
-#define RAYACCEL_AVX2 __attribute__((target("avx2")))
+#define RAYACCEL_AVX2 RAYACCEL_TARGET_AVX2
   RAYACCEL_AVX2 static F set1(float x) { return _mm256_set1_ps(x); }
   RAYACCEL_AVX2 static F zero() { return _mm256_setzero_ps(); }
   RAYACCEL_AVX2 static F all_ones() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
@@ -67,7 +65,6 @@ struct Avx8 {
 #undef RAYACCEL_AVX2
 };
 
-/// The eight-wide box test: BoxKernel over Avx8, used only from AVX2 (or AVX-512) functions.
-using BoxKernel8 = BoxKernel<Avx8>;
+static_assert(LaneSet<Avx8>);
 
-}  // namespace rayaccel::wide
+}  // namespace rayaccel::simd

@@ -1,6 +1,6 @@
 // Scene construction: validates primitives, derives per-primitive bounds and counts invalid and degenerate ones;
 // triangles come from an owned mesh or from the caller's buffers.
-#include "rayaccel/core/scene.h"
+#include "rayaccel/scene/scene.h"
 
 #include <cmath>
 #include <cstring>
@@ -187,22 +187,6 @@ int Scene::hull_points(std::uint32_t id, std::array<Vec3, 8>& out) const {
     out[corner] = {(corner & 1) ? b.hi.x : b.lo.x, (corner & 2) ? b.hi.y : b.lo.y, (corner & 4) ? b.hi.z : b.lo.z};
   }
   return 8;
-}
-
-Vec3 Scene::normal(const Ray& ray, const Hit& hit) const {
-  if (!hit.found()) return {};
-  const Vec3 p = ray.origin + ray.direction * hit.t;
-  switch (kind_) {
-    case PrimitiveKind::triangles: {
-      const std::array<Vec3, 3> t = triangle(hit.prim_id);
-      return normalize(cross(t[1] - t[0], t[2] - t[0]));
-    }
-    case PrimitiveKind::spheres:
-      return normalize(p - spheres_[hit.prim_id].center);
-    case PrimitiveKind::user:
-      return user_.normal ? normalize(user_.normal(hit.prim_id, p)) : normalize(-ray.direction);
-  }
-  return {};
 }
 
 void Scene::set_vertices(std::span<const Vec3> vertices) {

@@ -93,9 +93,6 @@ class Scene {
     return false;
   }
 
-  /// Unit geometric normal at a hit (triangles: (v1-v0)x(v2-v0); spheres: outward), for shading.
-  Vec3 normal(const Ray& ray, const Hit& hit) const;
-
   // Triangle access (kind() == triangles).
   /// The owned mesh; empty for a scene over caller buffers (borrows_buffers()).
   const TriangleMesh& mesh() const { return mesh_; }

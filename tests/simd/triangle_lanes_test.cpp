@@ -1,4 +1,4 @@
-// The SIMD triangle tests of the wide BVH (four SSE lanes, eight AVX2 lanes, and the eight lanes compiled for AVX-512)
+// The SIMD triangle tests (four SSE lanes, eight AVX2 lanes, and the eight lanes compiled for AVX-512)
 // against the scalar watertight kernel:
 // every lane must give the scalar kernel's answer bit for bit (t, u, v and the primitive), including lanes that
 // fall back to the scalar kernel (rays through edges and vertices, coordinates outside the safe range) and padding
@@ -11,11 +11,11 @@
 #include <vector>
 
 #include "rayaccel/geometry/ray_triangle.h"
-#include "rayaccel/wide/avx2_kernels.h"
-#include "rayaccel/wide/simd_kernels.h"
-#include "rayaccel/wide/wide_bvh.h"
+#include "rayaccel/simd/isa.h"
+#include "rayaccel/simd/lanes_avx2.h"
+#include "rayaccel/simd/watertight_lanes.h"
 
-namespace rayaccel::wide {
+namespace rayaccel::simd {
 namespace {
 
 using Triangle = std::array<Vec3, 3>;
@@ -57,7 +57,7 @@ Hit sse_hit(const PreparedRay& ray, const Triangle4& block) {
   return hit;
 }
 
-__attribute__((target("avx2"), flatten)) Hit avx_hit(const PreparedRay& ray, const Triangle4& first,
+RAYACCEL_TARGET_AVX2 __attribute__((flatten)) Hit avx_hit(const PreparedRay& ray, const Triangle4& first,
                                                        const Triangle4& second) {
   Hit hit = Hit::begin(ray);
   const TrianglePacket<Avx8> packet(ray);
@@ -67,7 +67,7 @@ __attribute__((target("avx2"), flatten)) Hit avx_hit(const PreparedRay& ray, con
 }
 
 /// The same eight-lane test in the AVX-512 build the wide BVH uses where the CPU has it (WideIsa::best).
-__attribute__((target("avx2,avx512f,avx512vl,avx512dq,avx512bw"), flatten)) Hit avx512_hit(
+RAYACCEL_TARGET_AVX512 __attribute__((flatten)) Hit avx512_hit(
     const PreparedRay& ray, const Triangle4& first, const Triangle4& second) {
   Hit hit = Hit::begin(ray);
   const TrianglePacket<Avx8> packet(ray);
@@ -178,4 +178,4 @@ TEST(TriangleLanes, PaddingLanesNeverHit) {
 }
 
 }  // namespace
-}  // namespace rayaccel::wide
+}  // namespace rayaccel::simd

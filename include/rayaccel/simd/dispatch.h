@@ -1,0 +1,46 @@
+// The one instruction-set dispatch every SIMD structure uses: runs a generic body with the lane set of the chosen
+// Isa, inside an entry point compiled for that instruction set (target attribute plus flatten, so the body and every
+// RAYACCEL_LANE_INLINE kernel it calls are compiled there, see lane_set.h).
+#pragma once
+
+#include "rayaccel/simd/isa.h"
+#include "rayaccel/simd/lane_set.h"
+#include "rayaccel/simd/lanes_avx2.h"
+#include "rayaccel/simd/lanes_sse.h"
+
+namespace rayaccel::simd {
+
+namespace detail {
+// Entry points: one per instruction set. The body is a generic lambda `[&]<class Lanes>() RAYACCEL_LANE_LAMBDA {...}`.
+template <class Body>
+__attribute__((flatten)) void run_sse2(const Body& body) {
+  body.template operator()<Sse4>();
+}
+template <class Body>
+RAYACCEL_TARGET_AVX2 __attribute__((flatten)) void run_avx2(const Body& body) {
+  body.template operator()<Avx8>();
+}
+template <class Body>
+RAYACCEL_TARGET_AVX512 __attribute__((flatten)) void run_avx512(const Body& body) {
+  body.template operator()<Avx8>();
+}
+}  // namespace detail
+
+/// Runs body.operator()<Lanes>() with Lanes = Sse4 for Isa::sse2 and Avx8 otherwise, compiled for `isa` (which the
+/// caller chose with best_isa(), so this CPU runs it).
+template <class Body>
+inline void run_with_lanes(Isa isa, const Body& body) {
+  switch (isa) {
+    case Isa::avx512:
+      detail::run_avx512(body);
+      return;
+    case Isa::avx2:
+      detail::run_avx2(body);
+      return;
+    case Isa::sse2:
+      break;
+  }
+  detail::run_sse2(body);
+}
+
+}  // namespace rayaccel::simd

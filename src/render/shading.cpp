@@ -1,0 +1,26 @@
+// Shading quantities of a hit (see render/shading.h).
+#include "rayaccel/render/shading.h"
+
+#include <array>
+
+namespace rayaccel {
+
+Vec3 geometric_normal(const Scene& scene, const Ray& ray, const Hit& hit) {
+  if (!hit.found()) return {};
+  const Vec3 p = ray.origin + ray.direction * hit.t;
+  switch (scene.kind()) {
+    case PrimitiveKind::triangles: {
+      const std::array<Vec3, 3> t = scene.triangle(hit.prim_id);
+      return normalize(cross(t[1] - t[0], t[2] - t[0]));
+    }
+    case PrimitiveKind::spheres:
+      return normalize(p - scene.spheres()[hit.prim_id].center);
+    case PrimitiveKind::user: {
+      const UserPrimitives& user = scene.user_primitives();
+      return user.normal ? normalize(user.normal(hit.prim_id, p)) : normalize(-ray.direction);
+    }
+  }
+  return {};
+}
+
+}  // namespace rayaccel
