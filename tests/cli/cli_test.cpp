@@ -15,14 +15,10 @@
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/render/colormap.h"
+#include "rayaccel/render/image_compare.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ray_io.h"
 #include "rayaccel/version.h"
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#include <stb/stb_image.h>  // the implementation is compiled in renderer_test.cpp
-#pragma GCC diagnostic pop
 
 namespace rayaccel {
 namespace {
@@ -391,12 +387,11 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
 
 /// The pixels of a PNG file, row by row.
 std::vector<Rgb> read_png(const std::filesystem::path& path) {
-  int w = 0, h = 0, channels = 0;
-  stbi_uc* data = stbi_load(path.string().c_str(), &w, &h, &channels, 3);
-  if (data == nullptr) return {};
-  std::vector<Rgb> pixels(static_cast<std::size_t>(w) * h);
-  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = {data[3 * i], data[3 * i + 1], data[3 * i + 2]};
-  stbi_image_free(data);
+  const Image image = load_png(path);
+  std::vector<Rgb> pixels(static_cast<std::size_t>(image.width) * image.height);
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    pixels[i] = {image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]};
+  }
   return pixels;
 }
 

@@ -1,5 +1,5 @@
 // Tests of the renderer (normals, ambient occlusion, heat map with legend), the colour ramp, the bitmap font and
-// PNG output (read back with stb_image, whose implementation lives only in this file).
+// PNG output (read back with load_png()).
 #include <gtest/gtest.h>
 
 #include <tbb/task_arena.h>
@@ -14,18 +14,9 @@
 #include "rayaccel/render/bitmap_font.h"
 #include "rayaccel/render/colormap.h"
 #include "rayaccel/render/heatmap.h"
+#include "rayaccel/render/image_compare.h"
 #include "rayaccel/render/renderer.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace rayaccel {
 namespace {
@@ -44,6 +35,22 @@ Scene tilted_quad() {
   TriangleMesh mesh;
   add_quad(mesh, {-0.5f, -0.5f, -0.2f}, {1.0f, 0.0f, 0.4f}, {0.0f, 1.0f, 0.0f});
   return Scene::from_mesh(std::move(mesh), "quad");
+}
+
+/// A floor (y = -0.5, normal -y) meeting a wall (z = -0.3) in a crease along x.
+Scene crease_scene() {
+  TriangleMesh mesh;
+  add_quad(mesh, {-2.0f, -0.5f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 4.0f});
+  add_quad(mesh, {-2.0f, -0.5f, -0.3f}, {0.0f, 3.0f, 0.0f}, {4.0f, 0.0f, 0.0f});
+  return Scene::from_mesh(std::move(mesh), "crease");
+}
+
+Camera camera_for_crease() {
+  Camera cam;
+  cam.eye = {0.0f, 1.0f, 3.0f};
+  cam.at = {0.0f, -0.3f, 0.0f};
+  cam.fov_degrees = 50.0f;
+  return cam;
 }
 
 Camera camera_for_quad() {
@@ -238,10 +245,7 @@ TEST(Renderer, AmbientOcclusionOfAnOpenPlaneIsUnoccludedEverywhere) {
 }
 
 TEST(Renderer, AmbientOcclusionDarkensACreaseAndIsThreadCountIndependent) {
-  TriangleMesh mesh;
-  add_quad(mesh, {-2.0f, -0.5f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 4.0f});  // floor y = -0.5 (normal -y)
-  add_quad(mesh, {-2.0f, -0.5f, -0.3f}, {0.0f, 3.0f, 0.0f}, {4.0f, 0.0f, 0.0f});  // wall z = -0.3
-  const Scene scene = Scene::from_mesh(std::move(mesh), "crease");
+  const Scene scene = crease_scene();
   BruteForce bf;
   bf.build(scene);
   RenderSettings settings;
@@ -249,10 +253,7 @@ TEST(Renderer, AmbientOcclusionDarkensACreaseAndIsThreadCountIndependent) {
   settings.mode = ShadingMode::ambient_occlusion;
   settings.ao_samples = 32;
   settings.ao_distance_fraction = 0.2f;
-  Camera cam;
-  cam.eye = {0.0f, 1.0f, 3.0f};
-  cam.at = {0.0f, -0.3f, 0.0f};
-  cam.fov_degrees = 50.0f;
+  const Camera cam = camera_for_crease();
   RenderResult single;
   tbb::task_arena arena(1);
   arena.execute([&] { single = render(bf, scene, cam, settings); });
@@ -283,19 +284,14 @@ TEST(Renderer, AmbientOcclusionDarkensACreaseAndIsThreadCountIndependent) {
 }
 
 TEST(Renderer, AdaptiveAmbientOcclusionSpendsRaysOnlyWhereTheEstimateIsUncertain) {
-  TriangleMesh mesh;
-  add_quad(mesh, {-2.0f, -0.5f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 4.0f});  // floor
-  add_quad(mesh, {-2.0f, -0.5f, -0.3f}, {0.0f, 3.0f, 0.0f}, {4.0f, 0.0f, 0.0f});  // wall: a crease
-  const Scene crease = Scene::from_mesh(std::move(mesh), "crease");
+  const Scene crease = crease_scene();
   const Scene open_plane = tilted_quad();
   RenderSettings settings;
   settings.width = settings.height = 32;
   settings.mode = ShadingMode::ambient_occlusion;
   settings.ao_samples = 8;
   settings.ao_distance_fraction = 0.2f;
-  Camera cam;
-  cam.eye = {0.0f, 1.0f, 3.0f};
-  cam.at = {0.0f, -0.3f, 0.0f};
+  const Camera cam = camera_for_crease();
   const auto run = [&](const Scene& scene, int max_samples, const Camera& camera) {
     BruteForce bf;
     bf.build(scene);
@@ -381,13 +377,10 @@ TEST(Renderer, PngRoundTrip) {
   const RenderResult r = render_with(scene, ShadingMode::heatmap, 64, 40);
   const std::filesystem::path path = std::filesystem::temp_directory_path() / "rayaccel_render_test.png";
   r.image.save_png(path);
-  int w = 0, h = 0, channels = 0;
-  stbi_uc* data = stbi_load(path.string().c_str(), &w, &h, &channels, 3);
-  ASSERT_NE(data, nullptr);
-  EXPECT_EQ(w, 64);
-  EXPECT_EQ(h, 40);
-  EXPECT_TRUE(std::equal(r.image.rgb.begin(), r.image.rgb.end(), data));
-  stbi_image_free(data);
+  const Image back = load_png(path);
+  EXPECT_EQ(back.width, 64);
+  EXPECT_EQ(back.height, 40);
+  EXPECT_EQ(back.rgb, r.image.rgb);
   std::filesystem::remove(path);
 
   const std::filesystem::path bad = std::filesystem::temp_directory_path() / "rayaccel_no_such_dir" / "x.png";
