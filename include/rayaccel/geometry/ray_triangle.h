@@ -77,6 +77,8 @@ struct WatertightBounds {
   /// Relative error of rounding an edge function known to double precision to float, and its absolute floor.
   static constexpr float kExactRelative = 0x1p-22f;
   static constexpr float kExactFloor = 0x1p-148f;
+  /// Below this |det| the edge functions are rescaled before t is computed (see finish_sheared_triangle).
+  static constexpr float kSmallDet = 0x1p-60f;
 };
 
 /// The largest magnitudes of a sheared triangle's coordinates (x, y after the shear, z before it), its depth range
@@ -152,17 +154,28 @@ struct EdgeFunctions {
 };
 
 /// Replaces `e` with the edge functions of the exact signs (exact_edge.h) rounded to float, and returns the bound
-/// on their error (the ray must not be void).
+/// on their error (the ray must not be void). All three (and the bound) may be scaled by one power of two first, so
+/// that they round to normal floats: t and the barycentrics are ratios of them, unchanged by a common factor, and
+/// keep their precision even for triangles whose edge functions would be subnormal (a triangle 1e-21 across).
 inline float exact_edge_functions(const PreparedRay& r, const TriangleForEdges& t, EdgeFunctions& e) {
   double error = 0.0;
   const auto edge = [&](const Vec3& p, const Vec3& q) {
     const ExactEdge x = exact_edge_function(r.origin, r.direction, r.kx, r.ky, r.kz, p, q);
     error = std::max(error, x.error * t.edge_scale);
-    return edge_to_float(x.sign == 0 ? 0.0 : x.value * t.edge_scale);
+    return x.sign == 0 ? 0.0 : x.value * t.edge_scale;
   };
-  e.u = edge(t.v2, t.v1);
-  e.v = edge(t.v0, t.v2);
-  e.w = edge(t.v1, t.v0);
+  double u = edge(t.v2, t.v1), v = edge(t.v0, t.v2), w = edge(t.v1, t.v0);
+  const double largest = std::max({std::fabs(u), std::fabs(v), std::fabs(w)});
+  if (largest > 0.0 && largest < 0x1p-60) {
+    const int k = -std::ilogb(largest);
+    u = std::ldexp(u, k);
+    v = std::ldexp(v, k);
+    w = std::ldexp(w, k);
+    error = std::ldexp(error, k);
+  }
+  e.u = edge_to_float(u);
+  e.v = edge_to_float(v);
+  e.w = edge_to_float(w);
   return (round_up_to_float(error) + e.max_magnitude() * WatertightBounds::kExactRelative) * WatertightBounds::kSlack +
          WatertightBounds::kExactFloor;
 }
@@ -181,6 +194,17 @@ inline bool finish_sheared_triangle(const PreparedRay& r, const ShearedTriangle&
     det = (e.u + e.v) + e.w;
   }
   if (det == 0.0f) return false;
+  if (std::fabs(det) < WatertightBounds::kSmallDet) {
+    // A triangle tiny across the ray but not along it: e * z below would underflow (t = 0 or -0 instead of the
+    // exact t) and 1 / det overflow. One power of two scales them all (exactly, the sum included), which changes
+    // neither t, the barycentrics nor the bound on t.
+    const int k = -std::ilogb(det);
+    e.u = std::ldexp(e.u, k);
+    e.v = std::ldexp(e.v, k);
+    e.w = std::ldexp(e.w, k);
+    det = std::ldexp(det, k);
+    edge_error = std::ldexp(edge_error, k);
+  }
   const float az = r.shear_z * s.az;
   const float bz = r.shear_z * s.bz;
   const float cz = r.shear_z * s.cz;
