@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "rayaccel/core/aabb.h"
@@ -11,9 +12,16 @@
 
 namespace rayaccel {
 
+/// Room clip_polygon_to_halfspace() needs to clip an n-gon: a convex polygon gains at most one vertex, but clipped
+/// vertices are rounded to float, so a polygon clipped before may be very slightly non-convex and cross a plane more
+/// than twice; each input vertex still yields at most two output vertices. (n + 1 overflowed the BSP tree's buffers
+/// on the conference room.)
+inline constexpr std::size_t clip_capacity(std::size_t n) { return 2 * n; }
+
 /// Keeps the part of the convex polygon in[0..n) where dot(normal, p) <= offset (points on the plane are kept) and
-/// writes it to `out`, which must have room for n + 1 vertices. Returns the vertex count of the result (0 when
-/// nothing is left). Signed distances and crossing points are computed in double; `in` and `out` must not alias.
+/// writes it to `out`, which must have room for clip_capacity(n) vertices. Returns the vertex count of the result
+/// (0 when nothing is left). Signed distances and crossing points are computed in double; `in` and `out` must not
+/// alias.
 inline int clip_polygon_to_halfspace(const Vec3* in, int n, const Vec3& normal, double offset, Vec3* out) {
   auto distance = [&](const Vec3& p) {
     return double(normal.x) * p.x + double(normal.y) * p.y + double(normal.z) * p.z - offset;
