@@ -309,7 +309,8 @@ int run_bench(BenchArgs args, bool threads_given) {
       throw UsageError("scene file '" + scene + "' does not exist (or is not a file)");
     }
   }
-  if (!args.images.empty()) std::filesystem::create_directories(args.images);
+  if (!args.json.empty()) check_output_path(args.json, "JSON file");
+  if (!args.images.empty()) check_output_directory(args.images, "images");
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   Progress progress;
@@ -324,9 +325,9 @@ int run_bench(BenchArgs args, bool threads_given) {
     }
   }
   if (!args.json.empty()) {
-    std::ofstream out(args.json);
-    out << nlohmann::json{{"threads", ThreadLimit::active()}, {"scenes", scenes}}.dump(2) << "\n";
-    if (!out) throw Error("cannot write '" + args.json + "'");
+    write_file_atomically(args.json,
+                          nlohmann::json{{"threads", ThreadLimit::active()}, {"scenes", scenes}}.dump(2) + "\n",
+                          "JSON file");
   }
   if (!failures.empty()) {
     std::string list;
