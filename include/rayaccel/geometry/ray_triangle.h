@@ -77,8 +77,6 @@ struct WatertightBounds {
   /// Relative error of rounding an edge function known to double precision to float, and its absolute floor.
   static constexpr float kExactRelative = 0x1p-22f;
   static constexpr float kExactFloor = 0x1p-148f;
-  /// Below this |det| the edge functions are rescaled before t is computed (see finish_sheared_triangle).
-  static constexpr float kSmallDet = 0x1p-60f;
 };
 
 /// The largest magnitudes of a sheared triangle's coordinates (x, y after the shear, z before it), its depth range
@@ -194,17 +192,6 @@ inline bool finish_sheared_triangle(const PreparedRay& r, const ShearedTriangle&
     det = (e.u + e.v) + e.w;
   }
   if (det == 0.0f) return false;
-  if (std::fabs(det) < WatertightBounds::kSmallDet) {
-    // A triangle tiny across the ray but not along it: e * z below would underflow (t = 0 or -0 instead of the
-    // exact t) and 1 / det overflow. One power of two scales them all (exactly, the sum included), which changes
-    // neither t, the barycentrics nor the bound on t.
-    const int k = -std::ilogb(det);
-    e.u = std::ldexp(e.u, k);
-    e.v = std::ldexp(e.v, k);
-    e.w = std::ldexp(e.w, k);
-    det = std::ldexp(det, k);
-    edge_error = std::ldexp(edge_error, k);
-  }
   const float az = r.shear_z * s.az;
   const float bz = r.shear_z * s.bz;
   const float cz = r.shear_z * s.cz;
