@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# Installs every build and test dependency of rayaccel from Debian packages (only what is missing).
+# Installs every build and test dependency of rayaccel from Debian packages (only what is missing). Clang and
+# libclang-rt-dev (libFuzzer and Clang's sanitizer runtimes) are for the fuzz tier, scripts/ci_fuzz.sh.
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libtbb-dev libassimp-dev libstb-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev libembree-dev libgmp-dev
+  clang libclang-rt-dev
   python3 python3-numpy
   python3-dev pybind11-dev python3-pytest python3-matplotlib python3-pip python3-setuptools python3-wheel
   python3-dask python3-distributed

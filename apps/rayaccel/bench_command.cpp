@@ -414,6 +414,7 @@ int run_bench(BenchArgs args, bool threads_given, bool heat_max_given) {
       throw UsageError("scene file '" + scene + "' does not exist (or is not a file)");
     }
   }
+  if (!args.json.empty()) check_output_path(args.json, "JSON file");
   if (!args.images.empty()) {
     const std::size_t frame_bytes = static_cast<std::size_t>(args.resolution) * args.resolution *
                                     kSharedHeatBytesPerPixel * specs.size() * args.scenes.size();
@@ -424,7 +425,7 @@ int run_bench(BenchArgs args, bool threads_given, bool heat_max_given) {
           specs.size() * args.scenes.size(), args.resolution, args.resolution,
           static_cast<double>(frame_bytes) / static_cast<double>(std::size_t{1} << 30)));
     }
-    std::filesystem::create_directories(args.images);
+    check_output_directory(args.images, "images");
   }
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
@@ -442,9 +443,9 @@ int run_bench(BenchArgs args, bool threads_given, bool heat_max_given) {
   }
   write_shared_heat_maps(heat_maps, progress);
   if (!args.json.empty()) {
-    std::ofstream out(args.json);
-    out << nlohmann::json{{"threads", ThreadLimit::active()}, {"scenes", scenes}}.dump(2) << "\n";
-    if (!out) throw Error("cannot write '" + args.json + "'");
+    write_file_atomically(args.json,
+                          nlohmann::json{{"threads", ThreadLimit::active()}, {"scenes", scenes}}.dump(2) + "\n",
+                          "JSON file");
   }
   if (!failures.empty()) {
     std::string list;

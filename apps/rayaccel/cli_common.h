@@ -14,6 +14,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/output_file.h"
 #include "rayaccel/scene/scene.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/heatmap.h"

@@ -163,6 +163,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   }
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
+  check_output_path(args.out, "PNG");
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   Progress progress;

@@ -38,6 +38,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   }
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
+  if (!args.out.empty()) check_output_path(args.out, args.occlusion ? "occlusion file" : "hit file");
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   const Scene scene = load_scene_checked(args.scene);

@@ -35,7 +35,7 @@ bool reaches_cell(std::vector<Vec3> points, bool polygon, const std::vector<Path
     const Vec3 n = h.below ? h.normal : -h.normal;
     const double d = (h.below ? h.offset : -h.offset) + tolerance;
     if (polygon) {
-      std::vector<Vec3> out(points.size() + 1);
+      std::vector<Vec3> out(clip_capacity(points.size()));
       const int k = clip_polygon_to_halfspace(points.data(), int(points.size()), n, d, out.data());
       if (k == 0) return false;
       out.resize(std::size_t(k));

@@ -104,7 +104,7 @@ class BspBuilder {
   /// The part of a straddling triangle on one side, clipped against the plane moved outward by the
   /// classification tolerance; the whole polygon if clipping leaves nothing (it touched only within tolerance).
   Ref clipped(const Ref& r, const Plane& h, bool keep_below) const {
-    Ref out{r.prim, std::vector<Vec3>(r.points.size() + 1)};
+    Ref out{r.prim, std::vector<Vec3>(clip_capacity(r.points.size()))};
     const int k = keep_below ? clip_polygon_to_halfspace(r.points.data(), int(r.points.size()), h.normal,
                                                          double(h.offset) + tolerance_, out.points.data())
                              : clip_polygon_to_halfspace(r.points.data(), int(r.points.size()), -h.normal,

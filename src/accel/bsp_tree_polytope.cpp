@@ -145,7 +145,7 @@ void Polytope::Slicer::split_areas(double d, double& below, double& above) const
     }
     if (hi_[i] <= d || lo_[i] >= d) continue;
     const int m = int(f.vertices.size());
-    std::vector<Vec3>& out = scratch(std::size_t(m) + 1);
+    std::vector<Vec3>& out = scratch(clip_capacity(std::size_t(m)));
     const int k = clip_polygon_to_halfspace(f.vertices.data(), m, normal_, d, out.data());
     const VectorArea b = vector_area(out.data(), k);
     area_below += b.length();
@@ -178,7 +178,7 @@ Polytope Polytope::clip(const Vec3& n, double d, bool keep_below) const {
     Face g;
     g.normal = f.normal;
     g.offset = f.offset;
-    g.vertices.resize(f.vertices.size() + 1);
+    g.vertices.resize(clip_capacity(f.vertices.size()));
     const int k = clip_polygon_to_halfspace(f.vertices.data(), int(f.vertices.size()), m, md, g.vertices.data());
     if (k < 3) continue;
     g.vertices.resize(std::size_t(k));
@@ -196,7 +196,7 @@ Polytope Polytope::clip(const Vec3& n, double d, bool keep_below) const {
   std::vector<Vec3> cap = {center - u * half - v * half, center + u * half - v * half, center + u * half + v * half,
                            center - u * half + v * half};
   for (const Face& f : faces_) {
-    std::vector<Vec3> next(cap.size() + 1);
+    std::vector<Vec3> next(clip_capacity(cap.size()));
     const int k = clip_polygon_to_halfspace(cap.data(), int(cap.size()), f.normal, f.offset, next.data());
     next.resize(std::size_t(k));
     cap = std::move(next);

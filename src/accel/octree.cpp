@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "rayaccel/accel/uniform_grid.h"
@@ -80,6 +81,11 @@ void Octree::build(const Scene& scene) {
     const AABB b = padded_scene_box(scene.bounds());
     const Vec3 grow = b.extent() * float(options_.pad);
     root_box_ = {b.lo - grow, b.hi + grow};
+    if (!grid_box_is_finite(root_box_)) {
+      // Wider than float's range (vertices near +-2e38): every float, one leaf, every primitive tested per ray.
+      constexpr float kMax = std::numeric_limits<float>::max();
+      root_box_ = AABB(Vec3{-kMax}, Vec3{kMax});
+    }
   }
   pad_ = cell_padding(root_box_);
   nodes_.push_back({kLeaf, new_list()});

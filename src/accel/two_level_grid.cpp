@@ -49,16 +49,19 @@ void TwoLevelGrid::build(const Scene& scene) {
   subgrids_.clear();
   leaf_offsets_.assign(1, 0);
   ids_.clear();
-  if (refs.empty()) {
+  const AABB box = padded_scene_box(scene.bounds());
+  test_all_ = !refs.empty() && !grid_box_is_finite(box);
+  if (refs.empty() || test_all_) {
     top_ = GridFrame::make(AABB({0, 0, 0}, {1, 1, 1}), {1, 1, 1});
     top_cells_.assign(1, kEmptyCell);
     return;
   }
-  const AABB box = padded_scene_box(scene.bounds());
-  top_ = GridFrame::make(box, limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.top_density,
-                                                                 options_.max_resolution, options_.max_cells),
-                                                 box));
   pad_ = cell_padding(box);
+  top_ = GridFrame::make(
+      box, limit_references(limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.top_density,
+                                                               options_.max_resolution, options_.max_cells),
+                                               box),
+                            box, refs, pad_, grid_reference_budget(refs.size(), 16)));
   const CellLists top_lists = bin_primitives(scene, refs, top_, pad_, exact_used_);
 
   // Second level, one independent grid per non-empty top cell, built in parallel.
@@ -85,9 +88,11 @@ void TwoLevelGrid::build(const Scene& scene) {
       for (int a = 0; a < 3; ++a) {
         if (!(sub.hi[a] - sub.lo[a] >= pad_)) { sub.lo[a] -= pad_; sub.hi[a] += pad_; }
       }
-      const auto res = limit_to_precision(grid_resolution(sub.extent(), cell_refs.size(), options_.leaf_density,
-                                                          options_.max_leaf_resolution, 1u << 21),
-                                          sub);
+      const auto res = limit_references(limit_to_precision(grid_resolution(sub.extent(), cell_refs.size(),
+                                                                           options_.leaf_density,
+                                                                           options_.max_leaf_resolution, 1u << 21),
+                                                           sub),
+                                        sub, cell_refs, pad_, grid_reference_budget(cell_refs.size(), 64));
       SubGrid& g = grids[i];
       g.box = sub;
       g.first_cell = 0;
@@ -135,11 +140,13 @@ std::vector<BuildStatistic> TwoLevelGrid::build_statistics() const {
           {"leaf_cells", leaves},
           {"empty_leaf_fraction", leaves > 0 ? double(empty) / leaves : 0.0},
           {"references", double(ids_.size())},
-          {"references_per_primitive", prim_count_ ? double(ids_.size()) / double(prim_count_) : 0.0}};
+          {"references_per_primitive", prim_count_ ? double(ids_.size()) / double(prim_count_) : 0.0},
+          {"tests_every_primitive", test_all_ ? 1.0 : 0.0}};
 }
 
 std::vector<std::string> TwoLevelGrid::validate() const {
   if (!scene_) return {"not built"};
+  if (test_all_) return {};  // no cells: every ray tests every primitive
   std::vector<std::string> problems;
   if (top_cells_.size() != top_.cell_count()) problems.push_back("top cell array does not match the top resolution");
   if (leaf_offsets_.empty() || leaf_offsets_.front() != 0 || leaf_offsets_.back() != ids_.size()) {

@@ -39,16 +39,20 @@ void UniformGrid::build(const Scene& scene) {
   references_ = 0;
   isa_ = simd::Isa::sse2;
   empty_ = refs.empty();
-  if (refs.empty()) {
+  const AABB box = padded_scene_box(scene.bounds());
+  test_all_ = !empty_ && !grid_box_is_finite(box);
+  if (empty_ || test_all_) {
     frame_ = GridFrame::make(AABB({0, 0, 0}, {1, 1, 1}), {1, 1, 1});
     lists_.offsets.assign(2, 0);
+    occupied_.assign(1, 0);
     return;
   }
-  const AABB box = padded_scene_box(scene.bounds());
-  frame_ = GridFrame::make(box, limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.density,
-                                                                   options_.max_resolution, options_.max_cells),
-                                                   box));
   pad_ = cell_padding(box);
+  frame_ = GridFrame::make(
+      box, limit_references(limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.density,
+                                                               options_.max_resolution, options_.max_cells),
+                                               box),
+                            box, refs, pad_, grid_reference_budget(refs.size(), 64)));
   lists_ = bin_primitives(scene, refs, frame_, pad_, exact_used_);
   references_ = lists_.ids.size();
   const std::uint32_t cells = frame_.cell_count();
@@ -102,7 +106,8 @@ std::vector<BuildStatistic> UniformGrid::build_statistics() const {
       {"cells", cells},
       {"empty_cell_fraction", cells > 0 ? double(empty) / cells : 0.0},
       {"references", double(references_)},
-      {"references_per_primitive", prim_count_ ? double(references_) / double(prim_count_) : 0.0}};
+      {"references_per_primitive", prim_count_ ? double(references_) / double(prim_count_) : 0.0},
+      {"tests_every_primitive", test_all_ ? 1.0 : 0.0}};
   if (!block_first_.empty()) {
     std::size_t used = 0;
     for (const auto& b : blocks_) {
@@ -116,6 +121,7 @@ std::vector<BuildStatistic> UniformGrid::build_statistics() const {
 
 std::vector<std::string> UniformGrid::validate() const {
   if (!scene_) return {"not built"};
+  if (test_all_) return {};  // no cells: every ray tests every primitive
   std::vector<std::string> problems;
   std::vector<std::uint8_t> seen(scene_->primitive_count(), 0);
   const CellLists lists = cell_lists();

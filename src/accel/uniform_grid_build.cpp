@@ -47,6 +47,23 @@ std::array<int, 3> grid_resolution(const Vec3& extent, std::size_t n, double den
   return res;
 }
 
+std::array<int, 3> limit_references(std::array<int, 3> res, const AABB& box, std::span<const PrimRef> refs,
+                                    float pad, std::size_t budget) {
+  for (;;) {
+    const GridFrame f = GridFrame::make(box, res);
+    double pairs = 0.0;
+    for (const PrimRef& ref : refs) {
+      double cells = 1.0;
+      for (int a = 0; a < 3; ++a) {
+        cells *= double(f.cell_of(ref.bounds.hi[a] + pad, a) - f.cell_of(ref.bounds.lo[a] - pad, a) + 1);
+      }
+      pairs += cells;
+    }
+    if (pairs <= double(budget) || (res[0] == 1 && res[1] == 1 && res[2] == 1)) return res;
+    for (int a = 0; a < 3; ++a) res[a] = std::max(1, res[a] * 3 / 4);
+  }
+}
+
 namespace {
 
 /// Calls emit(cell) for every cell of `f` the primitive is binned to. Triangles under the exact rule are located by

@@ -2,9 +2,11 @@
 #include "rayaccel/bvh/bvh_file.h"
 
 #include <fstream>
+#include <new>
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/output_file.h"
 
 namespace rayaccel {
 
@@ -41,10 +43,19 @@ std::uint64_t bvh_scene_fingerprint(const Scene& scene) {
 }
 
 std::vector<std::byte> read_bvh_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw Error("bvh file '" + path.string() + "': cannot be opened for reading (not a regular file, or missing)");
+  }
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw Error("bvh file '" + path.string() + "': cannot be opened for reading");
   const auto size = static_cast<std::size_t>(in.tellg());
-  std::vector<std::byte> bytes(size);
+  std::vector<std::byte> bytes;
+  try {
+    bytes.resize(size);
+  } catch (const std::bad_alloc&) {
+    throw Error("bvh file '" + path.string() + "': out of memory for its " + std::to_string(size) + " bytes");
+  }
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
     throw Error("bvh file '" + path.string() + "': read failed");
@@ -53,10 +64,7 @@ std::vector<std::byte> read_bvh_file(const std::filesystem::path& path) {
 }
 
 void write_bvh_file(const std::filesystem::path& path, std::span<const std::byte> bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("bvh file '" + path.string() + "': cannot be opened for writing");
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw Error("bvh file '" + path.string() + "': write failed");
+  write_file_atomically(path, bytes, "bvh file");
 }
 
 }  // namespace rayaccel

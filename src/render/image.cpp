@@ -5,6 +5,7 @@
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/output_file.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -46,9 +47,16 @@ void Image::save_png(const std::filesystem::path& path) const {
   if (width <= 0 || height <= 0 || rgb.size() != static_cast<std::size_t>(width) * height * 3) {
     throw Error("cannot write PNG '" + path.string() + "': the image is empty or its pixel buffer has the wrong size");
   }
-  if (stbi_write_png(path.string().c_str(), width, height, 3, rgb.data(), width * 3) == 0) {
-    throw Error("cannot write PNG '" + path.string() + "'");
+  std::vector<std::byte> png;
+  const auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<std::byte>*>(context);
+    const auto* bytes = static_cast<const std::byte*>(data);
+    out->insert(out->end(), bytes, bytes + size);
+  };
+  if (stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3) == 0) {
+    throw Error("cannot write PNG '" + path.string() + "': encoding failed");
   }
+  write_file_atomically(path, png, "PNG");
 }
 
 }  // namespace rayaccel

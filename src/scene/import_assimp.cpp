@@ -1,15 +1,20 @@
-// Mesh import through assimp with no post-processing (ids stay in file order; polygons are fan-triangulated here).
-// Built only with RAYACCEL_WITH_ASSIMP=ON; import_without_assimp.cpp takes its place otherwise.
+// Mesh import: PLY files through our own reader (ply_reader.h), every other format through assimp with no
+// post-processing (ids stay in file order; polygons are fan-triangulated here). Built only with
+// RAYACCEL_WITH_ASSIMP=ON; import_without_assimp.cpp takes its place otherwise.
 #include "rayaccel/scene/import.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <cstddef>
 #include <fstream>
+#include <new>
 #include <string>
+#include <vector>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/scene/ply_reader.h"
 
 namespace rayaccel {
 
@@ -17,8 +22,9 @@ namespace {
 
 std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 
-/// Fails with a clear message when the file is missing, not a regular file, or cannot be opened.
-void check_readable(const std::filesystem::path& path) {
+/// Fails with a clear message when the file is missing, not a regular file, empty, or cannot be opened; returns
+/// its first bytes (at most 16).
+std::vector<std::byte> check_readable(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error("cannot read mesh file " + quoted(path) + ": no such file");
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -26,6 +32,11 @@ void check_readable(const std::filesystem::path& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read mesh file " + quoted(path) + ": cannot open it (permissions?)");
+  std::vector<std::byte> start(16);
+  in.read(reinterpret_cast<char*>(start.data()), static_cast<std::streamsize>(start.size()));
+  start.resize(static_cast<std::size_t>(in.gcount()));
+  if (start.empty()) throw Error("mesh file " + quoted(path) + " is empty, not a mesh");
+  return start;
 }
 
 Vec3 transform_point(const aiMatrix4x4& m, const aiVector3D& p) {
@@ -73,11 +84,23 @@ void append_node(TriangleMesh& out, const aiScene& scene, const aiNode& node, co
 }  // namespace
 
 TriangleMesh import_mesh(const std::filesystem::path& path) {
-  check_readable(path);
+  // PLY, recognised by its first line whatever the file is called, never reaches assimp: its PLY reader loops
+  // forever on a file that ends inside its header and accepts files with fewer elements than they declare.
+  if (looks_like_ply(check_readable(path))) {
+    TriangleMesh mesh = read_ply(path);
+    if (mesh.triangles.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
+    return mesh;
+  }
   Assimp::Importer importer;
   // No post-processing at all: steps such as Triangulate, SortByPType, JoinIdenticalVertices or FindDegenerates
   // would reorder, split, weld or drop faces and break "primitive id = triangle index in file order".
-  const aiScene* scene = importer.ReadFile(path.string(), 0);
+  const aiScene* scene = nullptr;
+  try {
+    scene = importer.ReadFile(path.string(), 0);
+  } catch (const std::bad_alloc&) {
+    throw Error("mesh file " + quoted(path) + ": out of memory while assimp read it (a count in the file is "
+                "larger than the file can hold?)");
+  }
   if (!scene) {
     throw Error("mesh file " + quoted(path) + " is not a mesh assimp can read: " + importer.GetErrorString());
   }

@@ -1,16 +1,25 @@
-// Mesh import in a build without assimp (RAYACCEL_WITH_ASSIMP=OFF): every file is refused with the reason, so
-// only builtin: scenes and scenes made from the caller's own arrays load.
+// Mesh import in a build without assimp (RAYACCEL_WITH_ASSIMP=OFF): PLY files through our own reader
+// (ply_reader.h); every other file is refused with the reason.
+#include <cctype>
 #include <string>
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/scene/import.h"
+#include "rayaccel/scene/ply_reader.h"
 
 namespace rayaccel {
 
 TriangleMesh import_mesh(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") {
+    TriangleMesh mesh = read_ply(path);
+    if (mesh.triangles.empty()) throw Error("mesh file '" + path.string() + "' has no triangles");
+    return mesh;
+  }
   throw Error("cannot read mesh file '" + path.string() +
-              "': this rayaccel was built without mesh import (RAYACCEL_WITH_ASSIMP=OFF); use a builtin: scene or "
-              "build a Scene from your own arrays");
+              "': this rayaccel was built without assimp (RAYACCEL_WITH_ASSIMP=OFF) and reads only PLY files; use a "
+              "PLY file, a builtin: scene or a Scene built from your own arrays");
 }
 
 }  // namespace rayaccel

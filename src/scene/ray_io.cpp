@@ -7,13 +7,14 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <iterator>
+#include <new>
 #include <limits>
 #include <string>
 #include <system_error>
 #include <type_traits>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/output_file.h"
 
 namespace rayaccel {
 
@@ -37,23 +38,40 @@ void to_or_from_little_endian(unsigned char* bytes, std::size_t size) {
 template <class T>
 std::vector<T> read_records(const std::filesystem::path& path, const char* what) {
   static_assert(std::is_trivially_copyable_v<T>);
+  // Only regular files: their size is known before reading (a device such as /dev/zero would be read forever).
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) {
+    throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": it does not exist");
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": not a regular file");
+  }
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": " + ec.message());
+  if (size % sizeof(T) != 0) {
+    throw Error(std::string(what) + " file " + quoted(path) + " has " + std::to_string(size) +
+                " bytes, not a multiple of the " + std::to_string(sizeof(T)) + "-byte record");
+  }
   errno = 0;
   std::ifstream in(path, std::ios::binary);
-  std::error_code ec;
-  if (!in || std::filesystem::is_directory(path, ec)) {
+  if (!in) {
     throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": " +
                 (errno != 0 ? std::strerror(errno) : "not a readable file"));
   }
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": read error");
-  if (bytes.size() % sizeof(T) != 0) {
-    throw Error(std::string(what) + " file " + quoted(path) + " has " + std::to_string(bytes.size()) +
-                " bytes, not a multiple of the " + std::to_string(sizeof(T)) + "-byte record");
+  std::vector<T> records;
+  try {
+    records.resize(static_cast<std::size_t>(size / sizeof(T)));
+  } catch (const std::bad_alloc&) {
+    throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": out of memory for its " +
+                std::to_string(size) + " bytes");
   }
-  std::vector<T> records(bytes.size() / sizeof(T));
-  if (!bytes.empty()) std::memcpy(records.data(), bytes.data(), bytes.size());
+  if (size > 0 && !in.read(reinterpret_cast<char*>(records.data()), static_cast<std::streamsize>(size))) {
+    throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": it ended before its " +
+                std::to_string(size) + " bytes (read error or truncated while reading)");
+  }
   if constexpr (sizeof(T) % 4 == 0) {
-    to_or_from_little_endian(reinterpret_cast<unsigned char*>(records.data()), bytes.size());
+    to_or_from_little_endian(reinterpret_cast<unsigned char*>(records.data()), size);
   }
   return records;
 }
@@ -61,18 +79,12 @@ std::vector<T> read_records(const std::filesystem::path& path, const char* what)
 template <class T>
 void write_records(const std::filesystem::path& path, std::span<const T> records, const char* what) {
   static_assert(std::is_trivially_copyable_v<T>);
-  std::vector<unsigned char> bytes(records.size_bytes());
+  std::vector<std::byte> bytes(records.size_bytes());
   if (!bytes.empty()) std::memcpy(bytes.data(), records.data(), bytes.size());
-  if constexpr (sizeof(T) % 4 == 0) to_or_from_little_endian(bytes.data(), bytes.size());
-  errno = 0;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) {
-    throw Error("cannot write " + std::string(what) + " file " + quoted(path) + ": " +
-                (errno != 0 ? std::strerror(errno) : "cannot open"));
+  if constexpr (sizeof(T) % 4 == 0) {
+    to_or_from_little_endian(reinterpret_cast<unsigned char*>(bytes.data()), bytes.size());
   }
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw Error("cannot write " + std::string(what) + " file " + quoted(path) + ": write error");
+  write_file_atomically(path, bytes, std::string(what) + " file");
 }
 
 }  // namespace

@@ -160,7 +160,7 @@ TEST(ImportMesh, ErrorsNameTheFileAndTheFault) {
   const auto empty = dir.write("empty.ply", "");
   expect_error([&] { import_mesh(empty); }, "empty.ply", "not a mesh");
   const auto garbage = dir.write("garbage.ply", "ply\nformat ascii 1.0\nelement vertex banana\nend_header\n1 2 3\n");
-  expect_error([&] { import_mesh(garbage); }, "garbage.ply", "not a mesh");
+  expect_error([&] { import_mesh(garbage); }, "garbage.ply", "count 'banana' is not a non-negative integer");
   const auto text = dir.write("notes.txt", "this is not a mesh at all\n");
   expect_error([&] { import_mesh(text); }, "notes.txt", "not a mesh");
   const auto points = dir.write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");

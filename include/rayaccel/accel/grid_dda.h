@@ -40,6 +40,13 @@ inline std::array<int, 3> limit_to_precision(std::array<int, 3> res, const AABB&
   return res;
 }
 
+/// True when a grid can be laid over `box` in float: its corners and its extent are finite. A scene wider than
+/// float's range (vertices at +-2e38) fails; the grids then test every primitive for each ray instead of walking
+/// cells whose planes, sizes and distances would overflow.
+inline bool grid_box_is_finite(const AABB& box) {
+  return is_finite(box.lo) && is_finite(box.hi) && is_finite(box.hi - box.lo);
+}
+
 /// The scene box padded so that every axis has a positive extent (flat scenes still get a valid grid).
 inline AABB padded_scene_box(const AABB& bounds) {
   const float pad = std::max({max_component(bounds.extent()) * 0x1p-10f,

@@ -79,6 +79,10 @@ class Octree final : public AcceleratorImpl<Octree> {
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     if (active_count_ == 0) return;
+    if (!grid_box_is_finite(root_box_)) {  // one leaf over a box wider than float's range (see build())
+      test_every_leaf<AnyHit>(ray, hit, stats);
+      return;
+    }
     float t0 = ray.t_min, t1 = ray.t_max;
     if (!clip_ray_to_box(ray, root_box_, t0, t1)) return;
     // The cells are ordered along the ray measured from the traversal start (see TraversalStart): t0, t1 and the
@@ -178,7 +182,8 @@ class Octree final : public AcceleratorImpl<Octree> {
   }
   /// A cell may split above max_depth only while its children stay above min_cell_size (see grid_dda.h).
   bool may_split(const AABB& box, int depth) const {
-    return depth < options_.max_depth && max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);
+    return depth < options_.max_depth && grid_box_is_finite(root_box_) &&
+           max_component(box.extent()) * 0.5f >= min_cell_size(root_box_);
   }
   /// Splitting helps when some child holds some but not all of the cell's primitives, or when a single child holds
   /// them all (the cell shrinks around them). When two or more children would each hold all of them (a stack of

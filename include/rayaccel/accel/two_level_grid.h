@@ -45,6 +45,10 @@ class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
 
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    if (test_all_) {
+      test_every_primitive<AnyHit>(*scene_, ray, hit, stats);
+      return;
+    }
     if (subgrids_.empty()) return;
     float t0 = ray.t_min, t1 = ray.t_max;
     if (!clip_ray_to_box(ray, top_.box, t0, t1)) return;
@@ -100,6 +104,7 @@ class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
   GridFrame top_;
   float pad_ = 0.0f;
   bool exact_used_ = false;
+  bool test_all_ = false;  ///< the scene box is wider than float's range (grid_box_is_finite): no cells
   std::vector<std::uint32_t> top_cells_;     ///< per top cell: index into subgrids_, or kEmptyCell
   std::vector<SubGrid> subgrids_;
   std::vector<std::uint32_t> leaf_offsets_;  ///< all leaf cells of all subgrids, plus one end entry

@@ -42,6 +42,18 @@ struct UniformGridOptions {
 std::array<int, 3> grid_resolution(const Vec3& extent, std::size_t n, double density, int max_resolution,
                                    std::uint64_t max_cells);
 
+/// (cell, primitive) pairs a grid level may hold for n primitives: `per_primitive` each plus 2^16. Well-spread
+/// scenes use a few per primitive; many overlapping copies of one large triangle would otherwise each fill most of
+/// the cells (5,000 identical triangles took minutes to bin).
+inline std::size_t grid_reference_budget(std::size_t n, std::size_t per_primitive) {
+  return per_primitive * n + (std::size_t(1) << 16);
+}
+
+/// Lowers a resolution over `box` (by 3/4 per axis per step) until binning `refs` by their boxes grown by `pad`
+/// makes at most `budget` pairs, so a build's work and memory stay linear in its input.
+std::array<int, 3> limit_references(std::array<int, 3> res, const AABB& box, std::span<const PrimRef> refs,
+                                    float pad, std::size_t budget);
+
 /// Compact cell lists: the primitives of cell c are ids[offsets[c] .. offsets[c+1]).
 struct CellLists {
   std::vector<std::uint32_t> offsets;
@@ -99,6 +111,7 @@ class UniformGrid final : public AcceleratorImpl<UniformGrid> {
   float pad_ = 0.0f;
   bool exact_used_ = false;
   bool empty_ = true;
+  bool test_all_ = false;  ///< the scene box is wider than float's range (grid_box_is_finite): no cells
   CellLists lists_;  ///< id lists; empty when the cells hold blocks
   /// With blocks: cell c holds blocks_[block_first_[c] .. block_first_[c + 1]).
   std::vector<std::uint32_t> block_first_;
@@ -114,6 +127,10 @@ template <class Lanes, bool AnyHit, class Stats>
 RAYACCEL_LANE_INLINE void UniformGrid::trace_cells(const PreparedRay& ray, Hit& hit, Stats& stats) const {
   if (empty_) return;
   float t0 = ray.t_min, t1 = ray.t_max;
+  if (test_all_) {
+    test_every_primitive<AnyHit>(*scene_, ray, hit, stats);
+    return;
+  }
   if (!clip_ray_to_box(ray, frame_.box, t0, t1)) return;
   GridDda dda(ray, frame_, t0);
   if (!dda.precise()) {

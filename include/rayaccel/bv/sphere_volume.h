@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <span>
 
@@ -31,12 +32,19 @@ struct SphereVolume {
 
   /// Conservative: the radius grows by kRayOriginSlack of the origin's distance, which dwarfs the double-precision
   /// error of the interval, and the interval is widened like the slab tests', so a ray that touches the fitted
-  /// points' hull in [t_min, t_max] is never rejected. Void rays and the empty sphere never hit.
+  /// points' hull in [t_min, t_max] is never rejected. The widening is done in double (origin and center up to
+  /// 2 * FLT_MAX apart), and a radius beyond float's range (infinite: points more than FLT_MAX apart) holds every
+  /// ray's whole segment. Void rays and the empty sphere never hit.
   bool intersect(const RayContext& c, float t_min, float t_max, float* t_entry) const {
-    const Vec3 f = c.ray->origin - center;
-    const float slack = kRayOriginSlack * (std::fabs(f.x) + std::fabs(f.y) + std::fabs(f.z));
+    if (!(radius >= 0.0f)) return false;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    if (radius == kInf) return clip_to_widened_slabs(-kInf, kInf, t_min, t_max, t_entry);
+    const Vec3& o = c.ray->origin;
+    const double slack = double(kRayOriginSlack) * (std::fabs(double(o.x) - center.x) +
+                                                    std::fabs(double(o.y) - center.y) +
+                                                    std::fabs(double(o.z) - center.z));
     double t0, t1;
-    if (!(radius >= 0.0f) || !ray_sphere_interval(*c.ray, center, radius + slack, t0, t1)) return false;
+    if (!ray_sphere_interval(*c.ray, center, double(radius) + slack, t0, t1)) return false;
     return clip_to_widened_slabs(static_cast<float>(t0), static_cast<float>(t1), t_min, t_max, t_entry);
   }
   float surface_area() const { return radius >= 0.0f ? 4.0f * std::numbers::pi_v<float> * radius * radius : 0.0f; }

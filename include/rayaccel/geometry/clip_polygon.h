@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "rayaccel/core/aabb.h"
@@ -11,10 +12,15 @@
 
 namespace rayaccel {
 
+/// Room a clip of an n-gon needs: a convex polygon gains at most one vertex, but clipped vertices are rounded to
+/// float, so a polygon clipped before may be very slightly non-convex and cross a plane more than twice; each input
+/// vertex still yields at most two output vertices. (n + 1 overflowed the BSP tree's buffers on the conference room.)
+inline constexpr std::size_t clip_capacity(std::size_t n) { return 2 * n; }
+
 /// The Sutherland-Hodgman step over in[0..n): keeps each vertex with distance(p) <= 0 and, where an edge's signed
 /// distances have strictly opposite signs, its crossing point (interpolated in double, then passed through
-/// on_crossing, which may snap it). Writes at most n + 1 vertices to `out` (`in` and `out` must not alias); returns
-/// their count.
+/// on_crossing, which may snap it). Writes at most clip_capacity(n) vertices to `out` (n + 1 when the polygon is
+/// exactly convex; `in` and `out` must not alias); returns their count.
 template <class Distance, class OnCrossing>
 inline int clip_polygon_by(const Vec3* in, int n, const Distance& distance, const OnCrossing& on_crossing, Vec3* out) {
   int count = 0;
@@ -35,7 +41,7 @@ inline int clip_polygon_by(const Vec3* in, int n, const Distance& distance, cons
 }
 
 /// Keeps the part of the convex polygon in[0..n) where dot(normal, p) <= offset (points on the plane are kept) and
-/// writes it to `out`, which must have room for n + 1 vertices. Returns the vertex count of the result (0 when
+/// writes it to `out`, which must have room for clip_capacity(n) vertices. Returns the vertex count of the result (0 when
 /// nothing is left). Signed distances and crossing points are computed in double; `in` and `out` must not alias.
 inline int clip_polygon_to_halfspace(const Vec3* in, int n, const Vec3& normal, double offset, Vec3* out) {
   const auto distance = [&](const Vec3& p) {

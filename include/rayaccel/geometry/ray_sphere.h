@@ -16,7 +16,8 @@ namespace rayaccel {
 
 /// The parameter interval [t0, t1] (t0 <= t1) where the ray's line lies inside the sphere (center, radius), in
 /// double precision; false when the line misses (or the ray has a NaN component). The ray's t range is not applied.
-inline bool ray_sphere_interval(const PreparedRay& r, const Vec3& center, float radius, double& t0, double& t1) {
+/// The radius is a double so that callers may widen a float radius without rounding (or overflowing) in float.
+inline bool ray_sphere_interval(const PreparedRay& r, const Vec3& center, double radius, double& t0, double& t1) {
   const double fx = double(r.origin.x) - center.x, fy = double(r.origin.y) - center.y,
                fz = double(r.origin.z) - center.z;
   const double dx = r.direction.x, dy = r.direction.y, dz = r.direction.z;
@@ -25,7 +26,7 @@ inline bool ray_sphere_interval(const PreparedRay& r, const Vec3& center, float 
   // Discriminant as rr - |f + (b/a) d|^2, which keeps its precision for distant rays.
   const double s = b / a;
   const double lx = fx + s * dx, ly = fy + s * dy, lz = fz + s * dz;
-  const double rr = double(radius) * radius;
+  const double rr = radius * radius;
   const double disc = a * (rr - (lx * lx + ly * ly + lz * lz));
   if (!(disc >= 0.0)) return false;
   const double c = fx * fx + fy * fy + fz * fz - rr;

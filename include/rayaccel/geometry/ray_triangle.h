@@ -152,17 +152,28 @@ struct EdgeFunctions {
 };
 
 /// Replaces `e` with the edge functions of the exact signs (exact_edge.h) rounded to float, and returns the bound
-/// on their error (the ray must not be void).
+/// on their error (the ray must not be void). All three (and the bound) may be scaled by one power of two first, so
+/// that they round to normal floats: t and the barycentrics are ratios of them, unchanged by a common factor, and
+/// keep their precision even for triangles whose edge functions would be subnormal (a triangle 1e-21 across).
 inline float exact_edge_functions(const PreparedRay& r, const TriangleForEdges& t, EdgeFunctions& e) {
   double error = 0.0;
   const auto edge = [&](const Vec3& p, const Vec3& q) {
     const ExactEdge x = exact_edge_function(r.origin, r.direction, r.kx, r.ky, r.kz, p, q);
     error = std::max(error, x.error * t.edge_scale);
-    return edge_to_float(x.sign == 0 ? 0.0 : x.value * t.edge_scale);
+    return x.sign == 0 ? 0.0 : x.value * t.edge_scale;
   };
-  e.u = edge(t.v2, t.v1);
-  e.v = edge(t.v0, t.v2);
-  e.w = edge(t.v1, t.v0);
+  double u = edge(t.v2, t.v1), v = edge(t.v0, t.v2), w = edge(t.v1, t.v0);
+  const double largest = std::max({std::fabs(u), std::fabs(v), std::fabs(w)});
+  if (largest > 0.0 && largest < 0x1p-60) {
+    const int k = -std::ilogb(largest);
+    u = std::ldexp(u, k);
+    v = std::ldexp(v, k);
+    w = std::ldexp(w, k);
+    error = std::ldexp(error, k);
+  }
+  e.u = edge_to_float(u);
+  e.v = edge_to_float(v);
+  e.w = edge_to_float(w);
   return (round_up_to_float(error) + e.max_magnitude() * WatertightBounds::kExactRelative) * WatertightBounds::kSlack +
          WatertightBounds::kExactFloor;
 }

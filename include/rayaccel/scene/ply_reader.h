@@ -1,0 +1,30 @@
+// The PLY reader (Turk's polygon file format, as the Stanford / Paul Bourke description defines it): ASCII and
+// binary little- and big-endian, vertex x/y/z of any numeric type, face index lists of any count and index type,
+// every count checked against the file's size before anything is allocated.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <span>
+#include <string>
+
+#include "rayaccel/core/primitives.h"
+
+namespace rayaccel {
+
+/// True when `bytes` start like a PLY file ("ply" and a line end).
+bool looks_like_ply(std::span<const std::byte> bytes);
+
+/// Parses a PLY file held in memory; `name` stands for it in messages. Vertices are the `vertex` element's x, y, z
+/// (rounded to float); triangles come from the `face` element's `vertex_indices` (or `vertex_index`) lists in file
+/// order, each polygon fan-triangulated as (0, i, i+1); faces of fewer than three indices are skipped. Other
+/// elements and properties are read past. Throws Error naming the file, the header or data line (ASCII) or the
+/// element and its index (binary), and the value at fault for: a bad header, a count the file is too small to
+/// hold, a missing or extra value, a number that does not parse or does not fit its declared type, an index out of
+/// range, or a file that ends early.
+TriangleMesh parse_ply(std::span<const std::byte> bytes, const std::string& name);
+
+/// Reads a PLY file (a regular file, read whole) with parse_ply().
+TriangleMesh read_ply(const std::filesystem::path& path);
+
+}  // namespace rayaccel

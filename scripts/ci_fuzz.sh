@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# CI tier: the libFuzzer targets of tests/fuzz, built with Clang, ASan and UBSan in build-fuzz, each run for
+# FUZZ_SECONDS (default 25) on a copy of its checked-in corpus (tests/fuzz/corpus/<target>; the copy keeps the
+# inputs found out of the source tree). A crash, sanitizer report, leak or timeout fails the tier; the input that
+# caused it is left in build-fuzz/findings. Longer by hand: FUZZ_SECONDS=3600 scripts/ci_fuzz.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${FUZZ_SECONDS:-25}
+start=$(date +%s)
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release -DRAYACCEL_SANITIZE=ON \
+  -DRAYACCEL_BUILD_FUZZERS=ON -DRAYACCEL_BUILD_TESTS=OFF -DRAYACCEL_BUILD_CLI=OFF -DRAYACCEL_BUILD_BENCH=OFF \
+  -DRAYACCEL_BUILD_PYTHON=OFF -DRAYACCEL_BUILD_SHARED=OFF -DRAYACCEL_INSTALL=OFF -DRAYACCEL_WITH_EMBREE=OFF
+targets=(fuzz_ply_reader fuzz_ray_file fuzz_specs fuzz_bvh_file fuzz_differential)
+cmake --build build-fuzz --target "${targets[@]}"
+built=$(date +%s)
+export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+mkdir -p build-fuzz/findings
+for t in "${targets[@]}"; do
+  work=build-fuzz/corpus/$t
+  rm -rf "$work" && mkdir -p "$work"
+  cp tests/fuzz/corpus/"$t"/* "$work"/ 2>/dev/null || true
+  echo "ci_fuzz: $t for $seconds s"
+  build-fuzz/fuzz/"$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=3072 -print_final_stats=1 \
+    -artifact_prefix=build-fuzz/findings/"$t"- "$work" 2>&1 | tail -n 12
+  test "${PIPESTATUS[0]}" -eq 0
+done
+end=$(date +%s)
+echo "ci_fuzz: build $((built - start)) s, fuzzing $((end - built)) s"
