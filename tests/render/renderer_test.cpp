@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,8 @@ Camera camera_for_quad() {
   return cam;
 }
 
-RenderResult render_with(const Scene& scene, ShadingMode mode, int width, int height, int ao_samples = 4) {
+RenderResult render_with(const Scene& scene, ShadingMode mode, int width, int height, int ao_samples = 4,
+                         std::optional<CostRange> heat_scale = {}) {
   BruteForce bf;
   bf.build(scene);
   RenderSettings settings;
@@ -69,6 +71,7 @@ RenderResult render_with(const Scene& scene, ShadingMode mode, int width, int he
   settings.height = height;
   settings.mode = mode;
   settings.ao_samples = ao_samples;
+  settings.heat_scale = heat_scale;
   return render(bf, scene, camera_for_quad(), settings);
 }
 
@@ -152,15 +155,7 @@ TEST(Renderer, HeatMapIsItsFrameDrawnOnItsOwnScale) {
 }
 
 TEST(Renderer, FixedHeatScalePlacesEveryCostOnIt) {
-  const Scene scene = tilted_quad();
-  BruteForce bf;
-  bf.build(scene);
-  RenderSettings settings;
-  settings.width = 64;
-  settings.height = 64;
-  settings.mode = ShadingMode::heatmap;
-  settings.heat_scale = CostRange{0, 12, 12};
-  const RenderResult r = render(bf, scene, camera_for_quad(), settings);
+  const RenderResult r = render_with(tilted_quad(), ShadingMode::heatmap, 64, 64, 4, CostRange{0, 12, 12});
   // Every ray costs 3, a quarter of the way up a scale from 0 to 12: a miss pixel shows heat_colour(0.25).
   EXPECT_EQ(r.image.at(1, 1), heat_colour(0.25f));
   EXPECT_NE(r.image.at(1, 1), heat_colour(0.5f));
