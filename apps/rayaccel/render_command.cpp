@@ -7,7 +7,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -125,11 +124,7 @@ void render_whitted_mode(const RenderArgs& args, const WhittedArgs& w, const Acc
              "reflection, {} refraction ({:.2f} per pixel); {} nodes visited, {} primitive tests{}\n",
              args.out, width, height, accel.spec(), build_ms, result.milliseconds, c.camera, c.shadow, c.reflection,
              c.refraction, static_cast<double>(c.total()) / pixels, c.nodes_visited, c.primitives_tested, error_text);
-  if (!args.json.empty()) {
-    std::ofstream out(args.json);
-    out << report.dump(2) << "\n";
-    if (!out) throw Error("cannot write '" + args.json + "'");
-  }
+  if (!args.json.empty()) write_file_atomically(args.json, report.dump(2) + "\n", "JSON file");
 }
 
 int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool heat_max_given) {
@@ -164,6 +159,8 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
   check_output_path(args.out, "PNG");
+  if (whitted && !args.json.empty()) check_output_path(args.json, "JSON file");
+  if (whitted && !args.spp_map.empty()) check_output_path(args.spp_map, "samples-per-pixel PNG");
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   Progress progress;

@@ -91,9 +91,8 @@ bool WhittedTracer::shadowed(const Ray& ray, RayCounts& counts) const {
   return blocked;
 }
 
-Vec3 WhittedTracer::direct_light(const Vec3& normal, const Vec3& albedo, const Ray& ray, const Hit& hit,
+Vec3 WhittedTracer::direct_light(const Vec3& normal, const Vec3& albedo, const SurfacePoint& surface,
                                  std::uint64_t stream, RayCounts& counts) const {
-  const SurfacePoint surface = surface_point(scene_, ray, hit);
   Vec3 total{};
   for (std::size_t l = 0; l < lights_.size(); ++l) {
     const Light& light = lights_[l];
@@ -129,11 +128,12 @@ Vec3 WhittedTracer::trace(const Ray& ray, int depth, float weight, std::uint64_t
   const Vec3 d = normalize(ray.direction);
   const Vec3 n = geometric_normal(scene_, ray, hit);   // as the primitive is oriented
   const Vec3 facing = dot(n, d) > 0.0f ? -n : n;        // toward the side the ray came from
+  const SurfacePoint surface = surface_point(scene_, ray, hit);
   Vec3 colour{};
   const float diffuse = 1.0f - m.mirror - m.transmission;
   if (diffuse > 0.0f) {
     const Vec3 albedo = m.diffuse * diffuse;
-    colour += albedo * settings_.ambient + direct_light(facing, albedo, ray, hit, stream, counts);
+    colour += albedo * settings_.ambient + direct_light(facing, albedo, surface, stream, counts);
   }
 
   // Weights of the mirror direction and of the refracted direction (Fresnel equations for unpolarized light).
@@ -161,7 +161,7 @@ Vec3 WhittedTracer::trace(const Ray& ray, int depth, float weight, std::uint64_t
     // Hall & Greenberg: a ray whose contribution to the pixel would fall below min_weight is not traced.
     if (!(part > 0.0f) || weight * part < settings_.min_weight) return;
     Ray next;
-    next.origin = offset_ray_origin(surface_point(scene_, ray, hit), facing, direction);
+    next.origin = offset_ray_origin(surface, facing, direction);
     next.direction = direction;
     ++kind_count;
     colour += trace(next, depth + 1, weight * part, child_stream(stream, child), counts) * part;

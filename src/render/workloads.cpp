@@ -24,10 +24,8 @@ Vec3 facing_normal(const Scene& scene, const Ray& ray, const Hit& hit) {
   return dot(n, ray.direction) > 0.0f ? -n : n;
 }
 
-/// Where a ray leaving the surface at the hit toward `w` starts (see OriginOffset); n faces the incoming ray.
-Vec3 secondary_origin(const Scene& scene, const Ray& ray, const Hit& hit, const Vec3& n, const Vec3& w,
-                      OriginOffset offset) {
-  const SurfacePoint surface = surface_point(scene, ray, hit);
+/// Where a ray leaving `surface` toward `w` starts (see OriginOffset); n faces the incoming ray.
+Vec3 secondary_origin(const SurfacePoint& surface, const Vec3& n, const Vec3& w, OriginOffset offset) {
   if (offset.fixed_distance > 0.0f) return surface.point + (dot(w, n) < 0.0f ? -n : n) * offset.fixed_distance;
   return offset_ray_origin(surface, n, w);
 }
@@ -71,7 +69,7 @@ std::vector<Ray> bounce_rays(const Scene& scene, std::span<const Ray> rays, std:
   for_each_hit(rays, hits, out, [&](std::size_t i, Ray& r) {
     const Vec3 n = facing_normal(scene, rays[i], hits[i]);
     const Vec3 w = cosine_hemisphere(n, uniform_float(seed, i, 0), uniform_float(seed, i, 1));
-    r.origin = secondary_origin(scene, rays[i], hits[i], n, w, offset);
+    r.origin = secondary_origin(surface_point(scene, rays[i], hits[i]), n, w, offset);
     r.direction = w;
     r.t_min = 0.0f;
     r.t_max = max_distance;
@@ -133,8 +131,8 @@ std::vector<Ray> light_rays(const Scene& scene, std::span<const Ray> rays, std::
   std::vector<Ray> out;
   for_each_hit(rays, hits, out, [&](std::size_t i, Ray& r) {
     const Vec3 n = facing_normal(scene, rays[i], hits[i]);
-    const Vec3 toward = light - surface_point(scene, rays[i], hits[i]).point;
-    r.origin = secondary_origin(scene, rays[i], hits[i], n, toward, offset);
+    const SurfacePoint surface = surface_point(scene, rays[i], hits[i]);
+    r.origin = secondary_origin(surface, n, light - surface.point, offset);
     r.direction = light - r.origin;
     r.t_min = 0.0f;
     r.t_max = 0x1.fffffep-1f;  // the largest float below 1: the light point itself is not a hit

@@ -70,6 +70,13 @@ TEST(CliHostile, OutputPathsAreCheckedBeforeAnyWork) {
   EXPECT_EQ(bench.exit_code, 1) << bench.err;
   EXPECT_NE(bench.err.find("x.json"), std::string::npos) << bench.err;
   EXPECT_EQ(bench.out.find("bvh "), std::string::npos) << "no table before the check: " << bench.out;
+  for (const char* option : {"--json", "--spp-map"}) {  // whitted's extra outputs, checked before rendering
+    const auto whitted = run_bounded({"render", kScene, "--mode", "whitted", "--res", "8x8", "--out",
+                                      (dir / "w.png").string(), option, (missing / "x.out").string()});
+    EXPECT_EQ(whitted.exit_code, 1) << option << ": " << whitted.err;
+    EXPECT_NE(whitted.err.find("x.out"), std::string::npos) << whitted.err;
+    EXPECT_EQ(whitted.out.find("wrote"), std::string::npos) << "no render before the check: " << whitted.out;
+  }
   const auto images = run_bounded({"bench", kScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--images",
                                    rays.string()});
   EXPECT_EQ(images.exit_code, 1) << images.err;

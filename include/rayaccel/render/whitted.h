@@ -16,6 +16,7 @@
 #include "rayaccel/render/image_sampler.h"
 #include "rayaccel/render/lights.h"
 #include "rayaccel/render/materials.h"
+#include "rayaccel/render/workloads.h"
 
 namespace rayaccel {
 
@@ -54,7 +55,7 @@ class WhittedTracer {
 
  private:
   Vec3 trace(const Ray& ray, int depth, float weight, std::uint64_t stream, RayCounts& counts) const;
-  Vec3 direct_light(const Vec3& normal, const Vec3& albedo, const Ray& ray, const Hit& hit, std::uint64_t stream,
+  Vec3 direct_light(const Vec3& normal, const Vec3& albedo, const SurfacePoint& surface, std::uint64_t stream,
                     RayCounts& counts) const;
   bool shadowed(const Ray& ray, RayCounts& counts) const;
   Vec3 background(const Vec3& direction) const;
