@@ -8,18 +8,24 @@
 
 #include "rayaccel/simd/box_kernel.h"
 #include "rayaccel/simd/isa.h"
+#if RAYACCEL_AVX_KERNELS
 #include "rayaccel/simd/lanes_avx2.h"
+#endif
 #include "rayaccel/simd/watertight_lanes.h"
 #include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel::wide {
 namespace {
 
+#if RAYACCEL_AVX_KERNELS
 using simd::Avx8;
+#endif
 using simd::Sse4;
 using simd::cpu_has_avx2;
 using BoxKernel4 = BoxKernel<Sse4>;
+#if RAYACCEL_AVX_KERNELS
 using BoxKernel8 = BoxKernel<Avx8>;
+#endif
 
 constexpr int kRays = 256;
 constexpr int kItems = 64;
@@ -87,6 +93,7 @@ void BM_BoxKernel4(benchmark::State& state) {
 }
 BENCHMARK(BM_BoxKernel4);
 
+#if RAYACCEL_AVX_KERNELS  // (simd/isa.h: a Clang build has only the SSE kernels)
 RAYACCEL_TARGET_AVX2 __attribute__((flatten)) int box8_pass(const PreparedRay& r, const std::vector<Node<8>>& nodes) {
   alignas(32) float entry[8];
   const BoxKernel8::Packet p = BoxKernel8::prepare(r);
@@ -104,6 +111,7 @@ void BM_BoxKernel8(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kItems);
 }
 BENCHMARK(BM_BoxKernel8);
+#endif
 
 void BM_TriangleLanes4(benchmark::State& state) {
   const auto rays = make_rays();
@@ -120,6 +128,7 @@ void BM_TriangleLanes4(benchmark::State& state) {
 }
 BENCHMARK(BM_TriangleLanes4);
 
+#if RAYACCEL_AVX_KERNELS
 RAYACCEL_TARGET_AVX2 __attribute__((flatten)) Hit triangles8_pass(const PreparedRay& r,
                                                                const std::vector<Triangle4>& blocks) {
   const TrianglePacket<Avx8> p(r);
@@ -140,7 +149,9 @@ void BM_TriangleLanes8(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kItems);  // blocks of 4 triangles, tested two at a time
 }
 BENCHMARK(BM_TriangleLanes8);
+#endif
 
+#if RAYACCEL_AVX_KERNELS
 /// Eight coherent rays (one origin, targets around the triangles; all with the same axes kx, ky, kz) with the
 /// packet's per-lane constants, as the packet traversal holds them.
 std::vector<Ray> make_coherent_rays() {
@@ -199,6 +210,7 @@ void BM_TriangleRays8(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kItems * 8);
 }
 BENCHMARK(BM_TriangleRays8);
+#endif
 
 }  // namespace
 }  // namespace rayaccel::wide

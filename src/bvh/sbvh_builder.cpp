@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "rayaccel/bvh/binned_sah_builder.h"
@@ -104,14 +105,17 @@ class SbvhBuilder {
     SpatialSplit best;
     const std::uint32_t bins = config_.bin_count;
     for (int axis = 0; axis < 3; ++axis) {
-      const float lo = bounds.lo[axis], extent = bounds.hi[axis] - bounds.lo[axis];
-      if (!(extent > 0.0f)) continue;
+      // In double: a box from -FLT_MAX to FLT_MAX has a float extent of infinity, and (x - lo) * bins can overflow
+      // float where the bin itself is finite (the fuzz tier found the cast of that infinity).
+      const double lo = bounds.lo[axis], extent = double(bounds.hi[axis]) - lo;
+      if (!(extent > 0.0) || !std::isfinite(extent)) continue;
       std::array<float, kMaxBins + 1> plane{};
-      for (std::uint32_t k = 0; k <= bins; ++k) plane[k] = lo + extent * static_cast<float>(k) / bins;
+      for (std::uint32_t k = 0; k <= bins; ++k) plane[k] = static_cast<float>(lo + extent * k / bins);
+      plane[0] = bounds.lo[axis];
       plane[bins] = bounds.hi[axis];
       auto bin_of = [&](float x) {
-        const auto k = static_cast<std::uint32_t>(std::max(0.0f, (x - lo) * static_cast<float>(bins) / extent));
-        return std::min(k, bins - 1);
+        const double k = (double(x) - lo) * bins / extent;  // NaN (from a NaN x) lands in bin 0
+        return k >= bins - 1 ? bins - 1 : k > 0.0 ? static_cast<std::uint32_t>(k) : 0u;
       };
       std::array<AABB, kMaxBins> box{};
       std::array<std::uint32_t, kMaxBins> enter{}, exit{};

@@ -29,6 +29,7 @@ bool cpu_has_avx512() {
 }
 
 Isa best_isa(Isa cap) {
+  if (!RAYACCEL_AVX_KERNELS) return Isa::sse2;
   if (cap >= Isa::avx512 && cpu_has_avx512()) return Isa::avx512;
   if (cap >= Isa::avx2 && cpu_has_avx2()) return Isa::avx2;
   return Isa::sse2;

@@ -34,8 +34,10 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   presplit_potential_ = 0.0;  // build() sets it; a tree built elsewhere was not chosen by it
   dropped_repeats_ = 0;
   triangles_ = scene.kind() == PrimitiveKind::triangles;
-  width_ = config_.width == 8 || (config_.width == 0 && simd::cpu_has_avx2()) ? 8 : 4;
-  if (width_ == 8 && !simd::cpu_has_avx2()) width_ = 4;  // width=8 on a CPU without AVX2: same tree shape rules, SSE
+  // Eight-wide nodes need the eight-lane kernels: a CPU without AVX2 (or a build without them, see simd/isa.h) gets
+  // four-wide nodes with the same tree shape rules, also for width=8.
+  const bool eight_lanes = simd::best_isa(simd::Isa::avx2) != simd::Isa::sse2;
+  width_ = (config_.width == 8 || config_.width == 0) && eight_lanes ? 8 : 4;
   isa_ = width_ == 8 ? simd::best_isa(config_.isa == WideIsa::avx2 ? simd::Isa::avx2 : simd::Isa::avx512)
                      : simd::Isa::sse2;
   nodes4_.clear();

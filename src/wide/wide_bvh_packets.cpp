@@ -21,6 +21,7 @@
 
 namespace rayaccel::wide {
 
+#if RAYACCEL_AVX_KERNELS
 namespace {
 
 // One ray per lane of the eight-wide kernels' lane set, and one lane per child of the node those kernels test: the
@@ -273,12 +274,15 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
 }
 
 RAYACCEL_LANE_CODE_END
+#endif  // RAYACCEL_AVX_KERNELS
 
 void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
-  if (width_ != 8 || !triangles_ || root_ == kEmptyChild) {
+  // Eight-wide nodes exist only in builds with the eight-lane kernels (simd/isa.h).
+  if (!RAYACCEL_AVX_KERNELS || width_ != 8 || !triangles_ || root_ == kEmptyChild) {
     intersect(rays, hits);  // no packet traversal for four-wide nodes or other primitives: one by one
     return;
   }
+#if RAYACCEL_AVX_KERNELS
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
   detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t first = begin; first < end; first += detail::kPacketSize) {
@@ -291,6 +295,7 @@ void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) 
       });
     }
   });
+#endif
 }
 
 }  // namespace rayaccel::wide

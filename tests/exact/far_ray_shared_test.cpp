@@ -178,7 +178,7 @@ TEST_P(SlowFarRaysLargeScene, EveryKindAgreesWithExactArithmetic) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Shared, SlowFarRaysLargeScene,
+INSTANTIATE_TEST_SUITE_P(SlowShared, SlowFarRaysLargeScene,
                          ::testing::Values("dragon.ply", "crytek_sponza.ply", "conference.ply"),
                          [](const ::testing::TestParamInfo<std::string>& param) {
                            return param.param.substr(0, param.param.find('.'));

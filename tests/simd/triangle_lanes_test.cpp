@@ -12,7 +12,9 @@
 
 #include "rayaccel/geometry/ray_triangle.h"
 #include "rayaccel/simd/isa.h"
+#if RAYACCEL_AVX_KERNELS
 #include "rayaccel/simd/lanes_avx2.h"
+#endif
 #include "rayaccel/simd/watertight_lanes.h"
 
 namespace rayaccel::simd {
@@ -57,6 +59,7 @@ Hit sse_hit(const PreparedRay& ray, const Triangle4& block) {
   return hit;
 }
 
+#if RAYACCEL_AVX_KERNELS  // (simd/isa.h: a Clang build has only the SSE kernels)
 RAYACCEL_TARGET_AVX2 __attribute__((flatten)) Hit avx_hit(const PreparedRay& ray, const Triangle4& first,
                                                        const Triangle4& second) {
   Hit hit = Hit::begin(ray);
@@ -75,6 +78,7 @@ RAYACCEL_TARGET_AVX512 __attribute__((flatten)) Hit avx512_hit(
   intersect_triangle_lanes<Avx8>(packet, ray, blocks, hit);
   return hit;
 }
+#endif
 
 /// Triangles and rays that exercise every path: random ones, rays aimed exactly at vertices and edge midpoints of
 /// axis-aligned triangles (edge functions of exactly zero), and huge and tiny scales (outside the safe range).
@@ -133,8 +137,10 @@ TEST(TriangleLanes, EveryLaneMatchesTheScalarKernelBitForBit) {
       Triangle4 blocks[2] = {empty_block(), empty_block()};
       put(blocks[lane / 4], lane % 4, cases[i].triangle, id);
       if (lane < 4) expect_same_hit(sse_hit(ray, blocks[0]), expected, "SSE lane");
+#if RAYACCEL_AVX_KERNELS
       if (cpu_has_avx2()) expect_same_hit(avx_hit(ray, blocks[0], blocks[1]), expected, "AVX2 lane");
       if (cpu_has_avx512()) expect_same_hit(avx512_hit(ray, blocks[0], blocks[1]), expected, "AVX-512 lane");
+#endif
     }
     if (HasFailure()) {
       ADD_FAILURE() << "first failing case " << i;
@@ -159,8 +165,10 @@ TEST(TriangleLanes, FullBlocksReturnTheClosestOfTheirTriangles) {
       if (single.prim_id != kInvalidPrimId && single.t < expected.t) expected = single;
       if (lane == 3) expect_same_hit(sse_hit(ray, blocks[0]), expected, "SSE block");
     }
+#if RAYACCEL_AVX_KERNELS
     if (cpu_has_avx2()) expect_same_hit(avx_hit(ray, blocks[0], blocks[1]), expected, "AVX2 pair");
     if (cpu_has_avx512()) expect_same_hit(avx512_hit(ray, blocks[0], blocks[1]), expected, "AVX-512 pair");
+#endif
   }
 }
 
@@ -169,12 +177,14 @@ TEST(TriangleLanes, PaddingLanesNeverHit) {
   const PreparedRay ray(Ray{Vec3{0.25f, 0.25f, -1.0f}, 0.0f, Vec3{-0.25f, -0.25f, 1.0f}, 10.0f});
   const Triangle4 block = empty_block();
   EXPECT_EQ(sse_hit(ray, block).prim_id, kInvalidPrimId);
+#if RAYACCEL_AVX_KERNELS
   if (cpu_has_avx2()) {
     EXPECT_EQ(avx_hit(ray, block, block).prim_id, kInvalidPrimId);
   }
   if (cpu_has_avx512()) {
     EXPECT_EQ(avx512_hit(ray, block, block).prim_id, kInvalidPrimId);
   }
+#endif
 }
 
 }  // namespace

@@ -5,8 +5,10 @@
 
 #include "rayaccel/simd/isa.h"
 #include "rayaccel/simd/lane_set.h"
-#include "rayaccel/simd/lanes_avx2.h"
 #include "rayaccel/simd/lanes_sse.h"
+#if RAYACCEL_AVX_KERNELS
+#include "rayaccel/simd/lanes_avx2.h"
+#endif
 
 namespace rayaccel::simd {
 
@@ -16,6 +18,7 @@ template <class Body>
 __attribute__((flatten)) void run_sse2(const Body& body) {
   body.template operator()<Sse4>();
 }
+#if RAYACCEL_AVX_KERNELS
 template <class Body>
 RAYACCEL_TARGET_AVX2 __attribute__((flatten)) void run_avx2(const Body& body) {
   body.template operator()<Avx8>();
@@ -24,12 +27,14 @@ template <class Body>
 RAYACCEL_TARGET_AVX512 __attribute__((flatten)) void run_avx512(const Body& body) {
   body.template operator()<Avx8>();
 }
+#endif
 }  // namespace detail
 
 /// Runs body.operator()<Lanes>() with Lanes = Sse4 for Isa::sse2 and Avx8 otherwise, compiled for `isa` (which the
-/// caller chose with best_isa(), so this CPU runs it).
+/// caller chose with best_isa(), so this CPU runs it; without RAYACCEL_AVX_KERNELS that is always sse2).
 template <class Body>
 inline void run_with_lanes(Isa isa, const Body& body) {
+#if RAYACCEL_AVX_KERNELS
   switch (isa) {
     case Isa::avx512:
       detail::run_avx512(body);
@@ -40,6 +45,9 @@ inline void run_with_lanes(Isa isa, const Body& body) {
     case Isa::sse2:
       break;
   }
+#else
+  (void)isa;
+#endif
   detail::run_sse2(body);
 }
 

@@ -3,6 +3,18 @@
 // its kernels' instruction set here and runs them through simd/dispatch.h.
 #pragma once
 
+/// 1 when this build has the eight-lane AVX kernels (Avx8 and its AVX-512 build). Clang (checked with Clang 14)
+/// rejects, as an ABI error rather than GCC's -Wpsabi note, every call that passes a 32-byte vector from the generic
+/// lane code (compiled for the default target) to Avx8's target("avx2") operations, even when the caller is always
+/// inlined into an AVX entry point. A Clang build therefore compiles the SSE kernels only: best_isa() answers sse2,
+/// bvh_wide builds four-wide nodes and traces packets ray by ray, and answers are the same (every kernel performs the
+/// scalar kernel's float operations); only speed differs. GCC builds have every kernel.
+#if defined(__clang__)
+#define RAYACCEL_AVX_KERNELS 0
+#else
+#define RAYACCEL_AVX_KERNELS 1
+#endif
+
 namespace rayaccel::simd {
 
 /// Instruction set of the SIMD kernels, in increasing order. sse2: four lanes (every x86-64 CPU). avx2: eight
@@ -17,7 +29,7 @@ const char* to_string(Isa isa);
 bool cpu_has_avx2();
 /// True when this CPU runs code built with RAYACCEL_TARGET_AVX512 (AVX2 and AVX-512 F, VL, DQ, BW).
 bool cpu_has_avx512();
-/// The widest instruction set this CPU runs, at most `cap`.
+/// The widest instruction set this CPU runs and this build has kernels for (see RAYACCEL_AVX_KERNELS), at most `cap`.
 Isa best_isa(Isa cap = Isa::avx512);
 
 }  // namespace rayaccel::simd
