@@ -64,6 +64,17 @@ struct KdopRay {
   }
 };
 
+/// (plane - origin) * inv_direction, the distance to a slab plane. A diagonal projection reaches up to three times
+/// FLT_MAX, so for finite points and origins the float difference can overflow where the distance itself is finite
+/// (a plane at -3e38 seen from a projected origin at 5e37, with |inv_direction| < 1): the rare infinite difference is
+/// then recomputed in double, where it is exact up to a relative 2^-53, far inside the widening's budget. An infinite
+/// plane (a projection beyond float's range, rounded outward by the fit) stays infinite.
+inline float kdop_slab_distance(float plane, float origin, float inv_direction) {
+  const float difference = plane - origin;
+  if (!std::isinf(difference)) [[likely]] return difference * inv_direction;
+  return static_cast<float>((double(plane) - double(origin)) * double(inv_direction));
+}
+
 /// True when the segment [t_min, t_max] touches the k-DOP {p : lo[j] <= dot(dir[j], p) <= hi[j]}; *t_entry gets the
 /// entry distance. Conservative like intersect_box: never rejects a ray that touches the closed k-DOP in exact
 /// arithmetic; a ray lying in a slab plane is not constrained by that slab; void rays and empty k-DOPs (lo > hi)
@@ -75,8 +86,8 @@ inline bool intersect_kdop(const KdopRay<K>& r, const float* lo, const float* hi
   // distance (the widening is monotone) and cheaper.
   float enter = -std::numeric_limits<float>::infinity(), leave = std::numeric_limits<float>::infinity();
   for (int j = 0; j < KdopRay<K>::kSlabs; ++j) {
-    const float t_lo = (lo[j] - r.origin_lo[j]) * r.inv_direction[j];
-    const float t_hi = (hi[j] - r.origin_hi[j]) * r.inv_direction[j];
+    const float t_lo = kdop_slab_distance(lo[j], r.origin_lo[j], r.inv_direction[j]);
+    const float t_hi = kdop_slab_distance(hi[j], r.origin_hi[j], r.inv_direction[j]);
     const float t0 = r.negative[j] ? t_hi : t_lo;
     const float t1 = r.negative[j] ? t_lo : t_hi;
     // "Candidate beats current ? candidate : current", so a NaN slab distance (ray in a slab plane) is ignored.
