@@ -5,9 +5,11 @@ Usage: scripts/bench_summary.py DIR [DIR...]   (each DIR holds one run: threads1
 
 Every ratio is taken within one run (a structure against Embree measured in the same process), then the median over
 the runs is printed, so one noisy run does not decide a cell.
-Ray kinds: P primary, D diffuse, S shadow, and Pk packet (the primary rays in 4x2 pixel tiles traced eight at a time:
-intersect_packets(), Embree's rtcIntersect8) when every run has it; JSON from before the packet kind gives P / D / S.
-Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree; Embree's own figures are medians too.
+Ray kinds, each shown when every result of every run has it: P primary, D diffuse, S shadow (short AO rays), O
+occlusion (a quarter of the diagonal from origins offset along the normal), L light (rays to a point light), Pk packet
+(the primary rays in 4x2 pixel tiles traced eight at a time: intersect_packets(), Embree's rtcIntersect8).
+Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree's default; Embree's own figures are
+medians too. When the runs have Embree's robust mode (embree:robust=1), a column gives the default against it.
 Table 2: the lowest and highest of the default structure's ratios over the runs (only with two or more runs).
 Table 3: the spatial structures as slowdowns against the default bvh_wide (1 thread).
 """
@@ -16,11 +18,11 @@ import statistics
 import sys
 from pathlib import Path
 
-BASE_KINDS = ("primary", "diffuse", "shadow")
-PACKET = "packet"
-LETTERS = {"primary": "P", "diffuse": "D", "shadow": "S", PACKET: "Pk"}
-KINDS = BASE_KINDS  # set by main(): BASE_KINDS, plus PACKET when every result of every run has packet figures
+LETTERS = {"primary": "P", "diffuse": "D", "shadow": "S", "occlusion": "O", "light": "L", "packet": "Pk"}
+KINDS = tuple(LETTERS)  # set by main() to the kinds every result of every run has, in this order
 DEFAULT = "bvh_wide"
+EMBREE = "embree"
+EMBREE_ROBUST = "embree:robust=1"
 NO_PRESPLIT = "bvh_wide:presplit=0"
 SPATIAL = ("kdtree:builder=sah", "grid", "grid:density=1,blocks=true,mailbox=false")
 
@@ -56,9 +58,10 @@ def median_of(values):
     return statistics.median(values)
 
 
-def has_packet(runs):
-    return all(PACKET in row["rays"] for run in runs for threads in (1, 2) for scene in run[threads]["scenes"]
-               for row in scene["results"] if not row.get("failure"))
+def common_kinds(runs):
+    rows = [row for run in runs for threads in (1, 2) for scene in run[threads]["scenes"] for row in scene["results"]
+            if not row.get("failure")]
+    return tuple(k for k in LETTERS if all(k in row["rays"] for row in rows))
 
 
 def letters(separator=" / "):
@@ -85,10 +88,11 @@ def main():
         sys.exit(__doc__)
     runs = [load(Path(d)) for d in sys.argv[1:]]
     global KINDS
-    KINDS = BASE_KINDS + ((PACKET,) if has_packet(runs) else ())
+    KINDS = common_kinds(runs)
+    robust = all(EMBREE_ROBUST in rows_by_accel(scene) for run in runs for t in (1, 2) for scene in run[t]["scenes"])
     # (threads, scene) -> per-run figures, in the first run's order.
     keys = [(t, s["scene"]) for t in (1, 2) for s in runs[0][t]["scenes"]]
-    figures = {key: {"embree": [], "default": [], "no_presplit": [], "spatial": []} for key in keys}
+    figures = {key: {"embree": [], "default": [], "no_presplit": [], "robust": [], "spatial": []} for key in keys}
     for run in runs:
         for threads in (1, 2):
             for scene in run[threads]["scenes"]:
@@ -96,23 +100,27 @@ def main():
                 if key not in figures:
                     sys.exit(f"bench_summary: scene {key[1]} is not in every run")
                 rows = rows_by_accel(scene)
-                embree = next(r for r in scene["results"] if r.get("is_embree"))
+                embree = rows[EMBREE]
                 figures[key]["embree"].append(embree_figures(embree))
                 figures[key]["default"].append(ratios_to_embree(rows[DEFAULT], embree))
                 figures[key]["no_presplit"].append(ratios_to_embree(rows[NO_PRESPLIT], embree))
                 figures[key]["spatial"].append(slowdowns(rows))
+                if robust:
+                    figures[key]["robust"].append(ratios_to_embree(rows[DEFAULT], rows[EMBREE_ROBUST]))
 
     print(f"Medians over {len(runs)} run(s).")
     print()
+    robust_head = f" {DEFAULT} against {EMBREE_ROBUST}: build / memory / {letters()} |" if robust else ""
     print(f"| scene | threads | Embree build ms / MB / Mrays/s {letters('/')} "
-          f"| {DEFAULT} build / memory / {letters()} | {NO_PRESPLIT} build / memory / {letters()} |")
-    print("|---|---|---|---|---|")
+          f"| {DEFAULT} build / memory / {letters()} | {NO_PRESPLIT} build / memory / {letters()} |{robust_head}")
+    print("|---|---|---|---|---|" + ("---|" if robust else ""))
     for threads, scene in keys:
         f = figures[(threads, scene)]
         embree = median_of(f["embree"])
         embree_text = f"{embree[0]:.0f} / {embree[1]:.1f} / {joined(embree[2:])}"
+        robust_cell = f" {joined(median_of(f['robust']))} |" if robust else ""
         print(f"| {scene} | {threads} | {embree_text} | {joined(median_of(f['default']))} "
-              f"| {joined(median_of(f['no_presplit']))} |")
+              f"| {joined(median_of(f['no_presplit']))} |{robust_cell}")
 
     if len(runs) > 1:
         print()
