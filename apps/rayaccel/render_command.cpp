@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "rayaccel/generalized/generalized_rays.h"
 #include "rayaccel/render/image_compare.h"
 #include "rayaccel/render/renderer.h"
 #include "rayaccel/render/whitted.h"
@@ -45,6 +46,9 @@ struct RenderArgs {
   std::string reference;
   std::string json;
   std::string spp_map;
+  // normals and ao modes: primary visibility by beams
+  bool beams = false;
+  int beam_tile = 16;
 };
 
 /// The whitted mode's settings, checked before any work.
@@ -192,6 +196,14 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   settings.ao_samples = args.ao_samples;
   settings.ao_max_samples = args.ao_max_samples;
   settings.ao_error = args.ao_error;
+  if (args.beams) {
+    if (mode == ShadingMode::heatmap) throw UsageError("--beams: not with --mode heatmap (no per-pixel cost)");
+    require_range(args.beam_tile, 1, 4096, "--beam-tile");
+    if (!generalized::supports_generalized_rays(*accel)) {
+      throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh or bvh_wide)");
+    }
+    settings.beams = generalized::BeamConfig{.tile_size = args.beam_tile};
+  }
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
   const RenderResult result = render(*accel, scene, camera, settings);
@@ -203,6 +215,16 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
              args.out, width, height, args.mode, accel->spec(), build_ms, result.trace_milliseconds, result.rays,
              static_cast<double>(result.total.nodes_visited) / rays,
              static_cast<double>(result.total.primitives_tested) / rays);
+  if (result.beam_stats) {
+    const generalized::BeamStats& b = *result.beam_stats;
+    const double pixels = static_cast<double>(width) * height;
+    fmt::print("beams: {} beams; per pixel {:.3f} beam volume tests, {:.3f} beam/primitive tests, {:.3f} ray node "
+               "visits, {:.3f} ray/primitive tests; pixels {:.1f}% missed by beams, {:.1f}% one primitive test, "
+               "{:.1f}% on a proven front triangle, {:.1f}% traced from entry points\n",
+               b.beams, b.beam_node_tests / pixels, b.beam_primitive_tests / pixels, b.ray_node_visits / pixels,
+               b.ray_primitive_tests / pixels, 100.0 * b.pixels_missed / pixels, 100.0 * b.pixels_one_primitive / pixels,
+               100.0 * b.pixels_in_front / pixels, 100.0 * b.pixels_traced / pixels);
+  }
   return 0;
 }
 
@@ -249,6 +271,9 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--reference", args->reference, "whitted: a PNG to measure the image's error (RMSE, PSNR) against");
   app->add_option("--json", args->json, "whitted: write the rays traced by kind and the timings to this JSON file");
   app->add_option("--spp-map", args->spp_map, "whitted: write a heat map of samples per pixel to this PNG");
+  app->add_flag("--beams", args->beams,
+               "normals/ao: primary visibility by beams over bvh or bvh_wide (the same hits as single rays)");
+  app->add_option("--beam-tile", args->beam_tile, "--beams: side of the first beams in pixels")->capture_default_str();
   app->add_option("--out", args->out, "Output PNG file")->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads (>= 1)");
   CLI::Option* heat_max = app->add_option("--heat-max", args->heat_max, kHeatMaxHelp);
