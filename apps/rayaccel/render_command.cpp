@@ -13,6 +13,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "rayaccel/generalized/generalized_rays.h"
+#include "rayaccel/render/cone_effects.h"
 #include "rayaccel/render/image_compare.h"
 #include "rayaccel/render/renderer.h"
 #include "rayaccel/render/whitted.h"
@@ -49,7 +50,42 @@ struct RenderArgs {
   // normals and ao modes: primary visibility by beams
   bool beams = false;
   int beam_tile = 16;
+  // cone effects
+  std::string cones;
+  int cone_samples = 64;
+  int cone_rays = 0;
+  float cone_light_radius = 0.05f;
 };
+
+/// Renders --cones shadows|aa (or with --cone-rays its many-ray estimate) and prints its cost and error.
+void render_cone_mode(const RenderArgs& args, const Accelerator& accel, const Scene& scene, const Camera& camera,
+                      int width, int height, Progress& progress) {
+  ConeEffectSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.effect = parse_cone_effect(args.cones);
+  settings.cone_samples = args.cone_samples;
+  settings.rays = args.cone_rays;
+  settings.light_radius_fraction = args.cone_light_radius;
+  progress.stage(fmt::format("rendering {}x{} cone {}", width, height, args.cones));
+  const ConeEffectResult result = render_cone_effect(accel, scene, camera, settings);
+  result.image.save_png(args.out);
+  progress.done();
+  const double pixels = static_cast<double>(width) * height;
+  std::string error_text;
+  if (!args.reference.empty()) {
+    const ImageError e = compare_images(result.image, load_png(args.reference));
+    error_text = fmt::format(", RMSE {:.3f}, PSNR {:.2f} dB against {}", e.rmse, e.psnr, args.reference);
+  }
+  fmt::print("wrote {} ({}x{}, cones {}, {}): {} {} in {:.2f} ms; per pixel {:.2f} node visits, {:.2f} primitive "
+             "tests{}\n",
+             args.out, width, height, args.cones,
+             args.cone_rays > 0 ? fmt::format("{} rays per cone", args.cone_rays)
+                                : fmt::format("{} pattern directions per cone", args.cone_samples),
+             result.queries, args.cone_rays > 0 ? "rays traced" : "cones queried", result.milliseconds,
+             static_cast<double>(result.cost.nodes_visited) / pixels,
+             static_cast<double>(result.cost.primitives_tested) / pixels, error_text);
+}
 
 /// The whitted mode's settings, checked before any work.
 struct WhittedArgs {
@@ -162,6 +198,16 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   }
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
+  if (!args.cones.empty()) {
+    if (args.cones != "shadows" && args.cones != "aa") throw UsageError("--cones: '" + args.cones + "' is not shadows or aa");
+    if (whitted || args.beams) throw UsageError("--cones: not with --mode whitted or --beams");
+    require_range(args.cone_samples, 1, 65536, "--cone-samples");
+    require_range(args.cone_rays, 0, 65536, "--cone-rays");
+    if (!(args.cone_light_radius > 0.0f && args.cone_light_radius <= 1.0f)) {
+      throw UsageError(fmt::format("--cone-light-radius: {} is not in (0, 1]", args.cone_light_radius));
+    }
+    if (!args.reference.empty()) load_png(args.reference);  // a bad reference fails before the work
+  }
   check_output_path(args.out, "PNG");
   if (whitted && !args.json.empty()) check_output_path(args.json, "JSON file");
   if (whitted && !args.spp_map.empty()) check_output_path(args.spp_map, "samples-per-pixel PNG");
@@ -184,6 +230,10 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   accel->build(scene);
   const double build_ms = build_clock.milliseconds();
 
+  if (!args.cones.empty()) {
+    render_cone_mode(args, *accel, scene, camera, width, height, progress);
+    return 0;
+  }
   if (whitted) {
     render_whitted_mode(args, whitted_args, *accel, scene, camera, width, height, build_ms, progress);
     return 0;
@@ -268,12 +318,22 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--light-radius", args->light_radius,
                   "whitted: the light's radius as a fraction of the scene diagonal (0: a point light, no noise)")
       ->capture_default_str();
-  app->add_option("--reference", args->reference, "whitted: a PNG to measure the image's error (RMSE, PSNR) against");
+  app->add_option("--reference", args->reference,
+                  "whitted, --cones: a PNG to measure the image's error (RMSE, PSNR) against");
   app->add_option("--json", args->json, "whitted: write the rays traced by kind and the timings to this JSON file");
   app->add_option("--spp-map", args->spp_map, "whitted: write a heat map of samples per pixel to this PNG");
   app->add_flag("--beams", args->beams,
                "normals/ao: primary visibility by beams over bvh or bvh_wide (the same hits as single rays)");
   app->add_option("--beam-tile", args->beam_tile, "--beams: side of the first beams in pixels")->capture_default_str();
+  app->add_option("--cones", args->cones,
+                  "shadows (soft shadows from a spherical light) or aa (one cone per pixel), by cone queries over bvh "
+                  "or bvh_wide; with --cone-rays N the same estimate by N random rays per cone instead");
+  app->add_option("--cone-samples", args->cone_samples, "--cones: pattern directions per cone")->capture_default_str();
+  app->add_option("--cone-rays", args->cone_rays, "--cones: random rays per cone instead of the cone query (0: cones)")
+      ->capture_default_str();
+  app->add_option("--cone-light-radius", args->cone_light_radius,
+                  "--cones shadows: the light's radius over the scene diagonal")
+      ->capture_default_str();
   app->add_option("--out", args->out, "Output PNG file")->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads (>= 1)");
   CLI::Option* heat_max = app->add_option("--heat-max", args->heat_max, kHeatMaxHelp);

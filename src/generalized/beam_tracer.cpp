@@ -8,6 +8,9 @@ namespace rayaccel::generalized {
 void check_config(const BeamConfig& config) {
   if (config.tile_size < 1) throw Error("beams: tile_size " + std::to_string(config.tile_size) + " < 1");
   if (config.min_tile < 1) throw Error("beams: min_tile " + std::to_string(config.min_tile) + " < 1");
+  if (!(config.max_candidates_per_pixel >= 0.0f)) {
+    throw Error("beams: max_candidates_per_pixel " + std::to_string(config.max_candidates_per_pixel) + " < 0");
+  }
   if (config.max_front_candidates < 0) {
     throw Error("beams: max_front_candidates " + std::to_string(config.max_front_candidates) + " < 0");
   }

@@ -22,7 +22,6 @@ namespace rayaccel {
 
 namespace {
 
-constexpr Rgb kBackground{28, 30, 38};
 constexpr std::size_t kRaysPerChunk = std::size_t{1} << 15;  // enough rays per batch to keep every core busy
 constexpr float kAoAlbedo = 0.8f;
 
@@ -142,13 +141,6 @@ std::vector<float> ambient_visibility(const Accelerator& accel, const Scene& sce
     visible[k] = static_cast<float>(open[k]) / static_cast<float>(taken[k]);
   }
   return visible;
-}
-
-Rgb normal_colour(const Vec3& n) {
-  const Vec3 a = abs(n);
-  return {static_cast<std::uint8_t>(std::lround(std::clamp(a.x, 0.0f, 1.0f) * 255.0f)),
-          static_cast<std::uint8_t>(std::lround(std::clamp(a.y, 0.0f, 1.0f) * 255.0f)),
-          static_cast<std::uint8_t>(std::lround(std::clamp(a.z, 0.0f, 1.0f) * 255.0f))};
 }
 
 HeatFrame heat_frame(const Scene& scene, int width, int height, std::span<const Ray> rays, std::span<const Hit> hits,

@@ -3,7 +3,8 @@
 // once. A beam that meets no primitive resolves its pixels as misses; a beam that meets one primitive, or whose
 // candidates prove one triangle in front of all the others (beam_front_of), tests each pixel's ray against that one
 // primitive with the single-ray kernel; otherwise the tile splits in four, down to min_tile, and the rays left over
-// are traced one by one from the entry point: the deepest node holding every leaf the beam met with a candidate.
+// (or the beam holds more candidates than max_candidates_per_pixel allows, as on fine meshes) are traced one by one
+// from the entry point: the deepest node holding every leaf the beam met with a candidate.
 // Every pixel's hit is the one the structure's own intersect() returns, bit for bit: the beam holds its rays (checked
 // per ray), primitives outside it are never hit, the one-primitive test is the structure's own kernel, a proven front
 // triangle's computed t is below every other candidate's, and a traversal from the entry point tests the primitives a
@@ -40,6 +41,9 @@ struct BeamConfig {
   int min_tile = 2;            ///< beams are not split below this side; their undecided rays are traced one by one
   bool entry_points = true;    ///< rays left over start at the tile's entry node (false: at the root)
   int max_front_candidates = 12;  ///< the in-front proof (pairwise) is tried only up to this many candidates
+  /// A beam with more candidates than this per pixel is not split: its rays are traced from its entry point at once
+  /// (fine geometry, where every pixel sees other primitives, so smaller beams would only repeat the walk).
+  float max_candidates_per_pixel = 0.5f;
 };
 /// Checks a configuration; throws Error naming the bad value.
 void check_config(const BeamConfig& config);
@@ -141,7 +145,8 @@ class TileTracer {
       return;
     }
     const int w = x1 - x0, h = y1 - y0;
-    if (std::max(w, h) <= config_.min_tile) {
+    if (std::max(w, h) <= config_.min_tile ||
+        double(found.prims.size()) > double(config_.max_candidates_per_pixel) * double(pixel_count)) {
       trace_rays(x0, y0, x1, y1, entry, stats);
       return;
     }
