@@ -123,7 +123,9 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
     accel->build(c.scene);
     const auto rays = generalized::make_generalized_rays(*accel, c.scene);
     const CameraFrame frame = c.camera.frame(c.width, c.height);
-    for (const BeamConfig& config : {BeamConfig{}, BeamConfig{.tile_size = 5, .min_tile = 1, .entry_points = false}}) {
+    // Defaults; small tiles split down to single pixels from the root; every beam split as far as it goes.
+    for (const BeamConfig& config : {BeamConfig{}, BeamConfig{.tile_size = 5, .min_tile = 1, .entry_points = false},
+                                     BeamConfig{.tile_size = 16, .min_tile = 1, .max_candidates_per_pixel = 1e9f}}) {
       const BeamResult result = rays->trace_beams(pixels_of(frame), config);
       std::string report;
       EXPECT_EQ(differences(*accel, frame, result, report), 0) << c.name << " tile " << config.tile_size << "\n" << report;

@@ -147,6 +147,11 @@ TEST(ConeCoverage, SphereMatchesClosedForm) {
     if (sc.phi == 0.0) {  // inside: the cap's closed form, (1 - cos alpha) / (1 - cos theta)
       EXPECT_NEAR(expected, (1.0 - std::cos(sc.alpha)) / (1.0 - std::cos(theta)), 1e-6);
     }
+    // Alone, the sphere's visible share and the blocked fraction are its coverage.
+    const auto seen = generalized::make_generalized_rays(*accel, scene)->cone_visibility(cone, {.samples = samples});
+    EXPECT_EQ(seen.blocked, hits[0].coverage);
+    ASSERT_EQ(seen.visible.size(), 1u);
+    EXPECT_EQ(seen.visible[0].coverage, hits[0].coverage);
     // Distance: the nearest sampled hit is at least the distance to the sphere.
     EXPECT_GE(hits[0].distance, float(distance) - radius - 1e-4f);
   }
