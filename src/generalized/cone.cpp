@@ -34,15 +34,15 @@ PreparedCone::PreparedCone(const Cone& cone) : cone_(cone) {
   }
   axis_ = unit(a);
   const DVec3 helper = std::fabs(axis_.x) < 0.5 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
-  u_ = unit(dcross(axis_, helper));
-  v_ = dcross(axis_, u_);
+  const DVec3 u = unit(dcross(axis_, helper));
+  const DVec3 v = dcross(axis_, u);
   // Square pyramid around the cone: its corners at tan(angle) * sqrt(2) * (1 + 1e-6) off the axis at distance 1.
   const double r = std::tan(double(cone.half_angle)) * (1.0 + 1e-6);
   DVec3 edges[4];
   const double su[4] = {1, -1, -1, 1}, sv[4] = {1, 1, -1, -1};
   for (int i = 0; i < 4; ++i) {
-    edges[i] = {axis_.x + r * (su[i] * u_.x + sv[i] * v_.x), axis_.y + r * (su[i] * u_.y + sv[i] * v_.y),
-                axis_.z + r * (su[i] * u_.z + sv[i] * v_.z)};
+    edges[i] = {axis_.x + r * (su[i] * u.x + sv[i] * v.x), axis_.y + r * (su[i] * u.y + sv[i] * v.y),
+                axis_.z + r * (su[i] * u.z + sv[i] * v.z)};
   }
   pyramid_ = Beam::through(cone.apex, edges, 4);
 }
@@ -85,17 +85,25 @@ std::vector<Vec3> PreparedCone::pattern(int count) const {
   std::vector<Vec3> out;
   if (count <= 0) return out;
   out.reserve(std::size_t(count));
-  const double cos_max = std::cos(double(cone_.half_angle));
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  const double golden = (3.0 - std::sqrt(5.0)) / 2.0;  // the golden angle as a fraction of a turn
   for (int k = 0; k < count; ++k) {
-    const double cos_b = 1.0 - (k + 0.5) / count * (1.0 - cos_max);
-    const double sin_b = std::sqrt(std::fmax(0.0, 1.0 - cos_b * cos_b));
-    const double psi = golden * k;
-    const double cu = sin_b * std::cos(psi), cv = sin_b * std::sin(psi);
-    out.push_back(Vec3{float(cos_b * axis_.x + cu * u_.x + cv * v_.x), float(cos_b * axis_.y + cu * u_.y + cv * v_.y),
-                       float(cos_b * axis_.z + cu * u_.z + cv * v_.z)});
+    const double turn = golden * k;
+    out.push_back(cone_direction(cone_.axis, cone_.half_angle, (k + 0.5) / count, turn - std::floor(turn)));
   }
   return out;
+}
+
+Vec3 cone_direction(const Vec3& axis, double half_angle, double s, double t) {
+  const DVec3 a = unit(to_d(axis));
+  const DVec3 helper = std::fabs(a.x) < 0.5 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
+  const DVec3 u = unit(dcross(a, helper));
+  const DVec3 v = dcross(a, u);
+  const double cos_b = 1.0 - s * (1.0 - std::cos(half_angle));
+  const double sin_b = std::sqrt(std::fmax(0.0, 1.0 - cos_b * cos_b));
+  const double psi = 2.0 * std::numbers::pi * t;
+  const double cu = sin_b * std::cos(psi), cv = sin_b * std::sin(psi);
+  return Vec3{float(cos_b * a.x + cu * u.x + cv * v.x), float(cos_b * a.y + cu * u.y + cv * v.y),
+              float(cos_b * a.z + cu * u.z + cv * v.z)};
 }
 
 }  // namespace rayaccel::generalized

@@ -40,13 +40,8 @@ void check(const ConeEffectSettings& s) {
 /// A direction uniform in solid angle within the cone (the distribution the pattern spreads evenly).
 Vec3 random_in_cone(const Vec3& axis, float half_angle, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const double cos_b = 1.0 - uniform(rng) * (1.0 - std::cos(double(half_angle)));
-  const double sin_b = std::sqrt(std::fmax(0.0, 1.0 - cos_b * cos_b));
-  const double psi = 2.0 * std::numbers::pi * uniform(rng);
-  const Vec3 helper = std::fabs(axis.x) < 0.5f ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 u = normalize(cross(axis, helper));
-  const Vec3 v = cross(axis, u);
-  return normalize(axis * float(cos_b) + u * float(sin_b * std::cos(psi)) + v * float(sin_b * std::sin(psi)));
+  const double s = uniform(rng);
+  return generalized::cone_direction(axis, half_angle, s, uniform(rng));
 }
 
 /// Runs body(y, rng, cost) for every row in parallel; each row has its own generator (seed and row), so the image does

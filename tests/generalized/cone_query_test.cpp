@@ -23,16 +23,11 @@ namespace {
 using generalized::Cone;
 using generalized::ConeHit;
 
-/// A direction uniformly distributed in solid angle within `angle` of the unit axis.
+/// A direction uniformly distributed in solid angle within `angle` of the axis.
 Vec3 random_direction(const Vec3& axis, double angle, std::mt19937& rng) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const double cos_b = 1.0 - uniform(rng) * (1.0 - std::cos(angle));
-  const double sin_b = std::sqrt(std::fmax(0.0, 1.0 - cos_b * cos_b));
-  const double psi = 2.0 * std::numbers::pi * uniform(rng);
-  const Vec3 helper = std::fabs(axis.x) < 0.5f ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 u = normalize(cross(axis, helper));
-  const Vec3 v = cross(axis, u);
-  return normalize(axis * float(cos_b) + u * float(sin_b * std::cos(psi)) + v * float(sin_b * std::sin(psi)));
+  const double s = uniform(rng);
+  return generalized::cone_direction(axis, angle, s, uniform(rng));
 }
 
 /// Every primitive that any of `count` random rays inside the cone (its angle shrunk by 1e-5 so that rounding the

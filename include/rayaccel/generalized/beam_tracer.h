@@ -2,9 +2,9 @@
 // 2005 ("Multi-level ray tracing algorithm"): the image is cut into square tiles; each tile's beam walks the tree
 // once. A beam that meets no primitive resolves its pixels as misses; a beam that meets one primitive, or whose
 // candidates prove one triangle in front of all the others (beam_front_of), tests each pixel's ray against that one
-// primitive with the single-ray kernel; otherwise the tile splits in four, down to min_tile, and the rays left over
-// (or the beam holds more candidates than max_candidates_per_pixel allows, as on fine meshes) are traced one by one
-// from the entry point: the deepest node holding every leaf the beam met with a candidate.
+// primitive with the single-ray kernel; any other beam splits in four, down to min_tile or until it holds more
+// candidates than max_candidates_per_pixel allows (fine meshes), and the rays still undecided are traced one by one
+// from the entry point: the deepest node holding every leaf in which the beam met a candidate.
 // Every pixel's hit is the one the structure's own intersect() returns, bit for bit: the beam holds its rays (checked
 // per ray), primitives outside it are never hit, the one-primitive test is the structure's own kernel, a proven front
 // triangle's computed t is below every other candidate's, and a traversal from the entry point tests the primitives a
@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <mutex>

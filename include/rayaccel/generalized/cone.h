@@ -23,6 +23,10 @@ struct Cone {
   float t_max = std::numeric_limits<float>::infinity();
 };
 
+/// The direction at polar angle acos(1 - s (1 - cos(half_angle))) from `axis` (nonzero) and azimuth 2 pi t about it:
+/// for s and t uniform in [0, 1), uniform in solid angle within the cone (so is an even spread of s).
+Vec3 cone_direction(const Vec3& axis, double half_angle, double s, double t);
+
 /// A checked cone with its derived constants. Throws Error naming the value for a non-finite apex, a zero or
 /// non-finite axis, a half-angle outside (0, pi / 2), or a t range that is NaN, negative or empty.
 class PreparedCone {
@@ -47,7 +51,6 @@ class PreparedCone {
  private:
   Cone cone_;
   DVec3 axis_;  ///< unit
-  DVec3 u_, v_;  ///< unit, with axis_ an orthonormal frame
   Beam pyramid_;
 };
 
