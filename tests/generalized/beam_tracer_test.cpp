@@ -1,5 +1,6 @@
 // Beams against the rays they stand for: every pixel's hit from trace_beams() must be bit for bit the structure's own
-// intersect() (prim, t, u, v), over every BVH volume, SBVH, and the wide BVH at both widths, on built-in stress scenes,
+// intersect() (prim, t, u, v), over every registered variant with beams (every BVH volume and builder, the wide BVH at
+// both widths), on built-in stress scenes,
 // a mesh whose edges and vertices lie exactly on pixel rays, a scene where a front triangle hides others, and the bunny.
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "../conformance/oracle.h"
+#include "generalized_specs.h"
 #include "../shared_scenes.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/generalized/generalized_rays.h"
@@ -47,9 +48,6 @@ int differences(const Accelerator& accel, const CameraFrame& frame, const BeamRe
   }
   return count;
 }
-
-const std::vector<std::string> kSpecs = {"bvh",          "bvh:bv=sphere", "bvh:bv=obb", "bvh:bv=kdop14",
-                              "bvh:builder=sbvh", "bvh_wide",  "bvh_wide:width=4"};
 
 /// A grid of unit squares (two triangles each, diagonals alternating) on z = 0 around the origin, seen from straight
 /// above with an odd image: the middle row's and column's rays lie exactly in the planes x = 0 and y = 0, so they meet
@@ -123,9 +121,9 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
     accel->build(c.scene);
     const auto rays = generalized::make_generalized_rays(*accel, c.scene);
     const CameraFrame frame = c.camera.frame(c.width, c.height);
-    // Defaults; small tiles split down to single pixels from the root; every beam split as far as it goes.
-    for (const BeamConfig& config : {BeamConfig{}, BeamConfig{.tile_size = 5, .min_tile = 1, .entry_points = false},
-                                     BeamConfig{.tile_size = 16, .min_tile = 1, .max_candidates_per_pixel = 1e9f}}) {
+    // Defaults, and odd tiles split as far as they go (down to single pixels, each level from its entry point).
+    for (const BeamConfig& config :
+         {BeamConfig{}, BeamConfig{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}}) {
       const BeamResult result = rays->trace_beams(pixels_of(frame), config);
       std::string report;
       EXPECT_EQ(differences(*accel, frame, result, report), 0) << c.name << " tile " << config.tile_size << "\n" << report;
@@ -142,7 +140,8 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
   EXPECT_GT(total.pixels_traced, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Structures, BeamIdentity, ::testing::ValuesIn(kSpecs), conformance::spec_test_name);
+INSTANTIATE_TEST_SUITE_P(Conformance, BeamIdentity, ::testing::ValuesIn(testing::generalized_specs()),
+                         conformance::spec_test_name);
 
 TEST(BeamIdentityShared, BunnyMatchesIntersect) {
   const auto file = testing::shared_scenes_dir() / "bunny.ply";
