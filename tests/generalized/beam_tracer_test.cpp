@@ -7,6 +7,8 @@
 #include <bit>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -104,8 +106,12 @@ std::vector<Case> stress_cases() {
   std::vector<Case> cases;
   cases.push_back({"edge_grid", edge_grid(), Camera{{0, 0, 12}, {0, 0, 0}, {0, 1, 0}, 60.0f}, 33, 33});
   cases.push_back({"occluders", occluders(), Camera{{0.3f, 0.2f, 8}, {0, 0, 0}, {0, 1, 0}, 50.0f}, 48, 40});
-  for (const char* name : {"sierpinski", "slivers", "soup", "default", "sphereflake"}) {
-    Scene scene = make_builtin_scene(name);
+  // Reduced sizes keep the suite fast over every variant; still thousands of primitives each.
+  const std::vector<std::pair<const char*, std::map<std::string, std::string>>> builtins = {
+      {"sierpinski", {{"level", "5"}}}, {"slivers", {{"count", "3000"}}}, {"soup", {{"count", "3000"}}},
+      {"default", {}}, {"sphereflake", {{"level", "3"}}}};
+  for (const auto& [name, params] : builtins) {
+    Scene scene = make_builtin_scene(name, params);
     const Camera camera = Camera::framing(scene.bounds());
     cases.push_back({name, std::move(scene), camera, 40, 36});
   }
