@@ -50,6 +50,7 @@ struct RenderArgs {
   // normals and ao modes: primary visibility by beams
   bool beams = false;
   int beam_tile = 16;
+  bool beam_root = false;
   // cone effects
   std::string cones;
   int cone_samples = 64;
@@ -252,7 +253,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     if (!generalized::supports_generalized_rays(*accel)) {
       throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh or bvh_wide)");
     }
-    settings.beams = generalized::BeamConfig{.tile_size = args.beam_tile};
+    settings.beams = generalized::BeamConfig{.tile_size = args.beam_tile, .entry_points = !args.beam_root};
   }
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
@@ -325,6 +326,8 @@ Command add_render_command(CLI::App& root) {
   app->add_flag("--beams", args->beams,
                "normals/ao: primary visibility by beams over bvh or bvh_wide (the same hits as single rays)");
   app->add_option("--beam-tile", args->beam_tile, "--beams: side of the first beams in pixels")->capture_default_str();
+  app->add_flag("--beam-root", args->beam_root,
+               "--beams: trace the undecided rays from the root instead of the tile's entry point (for comparison)");
   app->add_option("--cones", args->cones,
                   "shadows (soft shadows from a spherical light) or aa (one cone per pixel), by cone queries over bvh "
                   "or bvh_wide; with --cone-rays N the same estimate by N random rays per cone instead");
