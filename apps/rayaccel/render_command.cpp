@@ -200,7 +200,11 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
   if (!args.cones.empty()) {
-    if (args.cones != "shadows" && args.cones != "aa") throw UsageError("--cones: '" + args.cones + "' is not shadows or aa");
+    try {
+      parse_cone_effect(args.cones);
+    } catch (const Error& e) {
+      throw UsageError(std::string("--cones: ") + e.what());
+    }
     if (whitted || args.beams) throw UsageError("--cones: not with --mode whitted or --beams");
     require_range(args.cone_samples, 1, 65536, "--cone-samples");
     require_range(args.cone_rays, 0, 65536, "--cone-rays");
