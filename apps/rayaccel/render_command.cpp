@@ -255,7 +255,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     if (mode == ShadingMode::heatmap) throw UsageError("--beams: not with --mode heatmap (no per-pixel cost)");
     require_range(args.beam_tile, 1, 4096, "--beam-tile");
     if (!generalized::supports_generalized_rays(*accel)) {
-      throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh or bvh_wide)");
+      throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh, bvh_wide or kdtree)");
     }
     settings.beams = generalized::BeamConfig{.tile_size = args.beam_tile, .entry_points = !args.beam_root};
   }
@@ -328,13 +328,13 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--json", args->json, "whitted: write the rays traced by kind and the timings to this JSON file");
   app->add_option("--spp-map", args->spp_map, "whitted: write a heat map of samples per pixel to this PNG");
   app->add_flag("--beams", args->beams,
-               "normals/ao: primary visibility by beams over bvh or bvh_wide (the same hits as single rays)");
+               "normals/ao: primary visibility by beams over bvh, bvh_wide or kdtree (the same hits as single rays)");
   app->add_option("--beam-tile", args->beam_tile, "--beams: side of the first beams in pixels")->capture_default_str();
   app->add_flag("--beam-root", args->beam_root,
                "--beams: trace the undecided rays from the root instead of the tile's entry point (for comparison)");
   app->add_option("--cones", args->cones,
-                  "shadows (soft shadows from a spherical light) or aa (one cone per pixel), by cone queries over bvh "
-                  "or bvh_wide; with --cone-rays N the same estimate by N random rays per cone instead");
+                  "shadows (soft shadows from a spherical light) or aa (one cone per pixel), by cone queries over bvh, "
+                  "bvh_wide or kdtree; with --cone-rays N the same estimate by N random rays per cone instead");
   app->add_option("--cone-samples", args->cone_samples, "--cones: pattern directions per cone")->capture_default_str();
   app->add_option("--cone-rays", args->cone_rays, "--cones: random rays per cone instead of the cone query (0: cones)")
       ->capture_default_str();

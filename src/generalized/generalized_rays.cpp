@@ -44,6 +44,9 @@ std::unique_ptr<GeneralizedRays> try_bvh(const Accelerator& accel, const Scene& 
 }
 
 std::unique_ptr<GeneralizedRays> try_make(const Accelerator& accel, const Scene& scene) {
+  if (const auto* kd = dynamic_cast<const KdTree*>(&accel)) {
+    return std::make_unique<ViewRays<KdView>>(KdView(*kd), scene);
+  }
   if (const auto* wide = dynamic_cast<const wide::WideBvh*>(&accel)) {
     if (wide->width() == 8) return std::make_unique<ViewRays<WideView<8>>>(WideView<8>(*wide), scene);
     return std::make_unique<ViewRays<WideView<4>>>(WideView<4>(*wide), scene);
@@ -66,7 +69,7 @@ std::unique_ptr<GeneralizedRays> make_generalized_rays(const Accelerator& accel,
   std::unique_ptr<GeneralizedRays> out = try_make(accel, scene);
   if (!out) {
     throw Error("generalized rays: structure '" + accel.spec() +
-                "' has no beam or cone traversal (use bvh or bvh_wide)");
+                "' has no beam or cone traversal (use bvh, bvh_wide or kdtree)");
   }
   return out;
 }

@@ -63,7 +63,7 @@ TEST(CliGeneralized, BadValuesAreRefusedNamingTheOption) {
       {{"--cones", "aa", "--beams"}, "--cones"},
       {{"--beams", "--beam-tile", "0"}, "--beam-tile"},
       {{"--beams", "--mode", "heatmap"}, "--beams"},
-      {{"--beams", "--accel", "kdtree"}, "kdtree"},
+      {{"--beams", "--accel", "octree"}, "octree"},
       {{"--cones", "aa", "--accel", "grid"}, "grid"},
   };
   for (const auto& [extra, needle] : cases) {

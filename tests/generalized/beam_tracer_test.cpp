@@ -1,6 +1,6 @@
 // Beams against the rays they stand for: every pixel's hit from trace_beams() must be bit for bit the structure's own
 // intersect() (prim, t, u, v), over every registered variant with beams (every BVH volume and builder, the wide BVH at
-// both widths), on built-in stress scenes,
+// both widths, the kd-tree), on built-in stress scenes,
 // a mesh whose edges and vertices lie exactly on pixel rays, a scene where a front triangle hides others, and the bunny.
 #include <gtest/gtest.h>
 
@@ -155,7 +155,7 @@ TEST(BeamIdentityShared, BunnyMatchesIntersect) {
   const Scene scene = load_scene(file.string());
   const Camera camera = standard_camera(file).value_or(Camera::framing(scene.bounds()));
   const CameraFrame frame = camera.frame(64, 64);
-  for (const char* spec : {"bvh", "bvh_wide"}) {
+  for (const char* spec : {"bvh", "bvh_wide", "kdtree:builder=sah"}) {
     auto accel = make_accelerator(spec);
     accel->build(scene);
     const BeamResult result = generalized::make_generalized_rays(*accel, scene)->trace_beams(pixels_of(frame), {});
@@ -174,10 +174,10 @@ TEST(BeamTracer, RejectsBadInput) {
   EXPECT_THROW(rays->trace_beams(PixelRays{0, 4, pixels_of(frame).ray_at}, {}), Error);
   const PixelRays moving{4, 4, [](float x, float y) { return Ray{{x, y, 1}, 0, {0, 0, -1}}; }};
   EXPECT_THROW(rays->trace_beams(moving, {}), Error);
-  auto kd = make_accelerator("kdtree");
-  kd->build(scene);
-  EXPECT_FALSE(generalized::supports_generalized_rays(*kd));
-  EXPECT_THROW(generalized::make_generalized_rays(*kd, scene), Error);
+  auto octree = make_accelerator("octree");
+  octree->build(scene);
+  EXPECT_FALSE(generalized::supports_generalized_rays(*octree));
+  EXPECT_THROW(generalized::make_generalized_rays(*octree, scene), Error);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // Generalized rays over a built structure chosen at run time: one virtual call per image of beams or per cone, none per
-// node. Supported: every Bvh<BV> (AABB, sphere, OBB, k-DOP volumes) and the wide BVH (4 or 8 wide).
+// node. Supported: every Bvh<BV> (AABB, sphere, OBB, k-DOP volumes), the wide BVH (4 or 8 wide) and the kd-tree.
 #pragma once
 
 #include <memory>
@@ -27,7 +27,7 @@ class GeneralizedRays {
 /// True when make_generalized_rays() accepts this structure.
 bool supports_generalized_rays(const Accelerator& accel);
 /// Generalized rays over `accel`, built over `scene` (both must outlive the result). Throws Error naming the spec of a
-/// structure without them (kd-tree, grids, octree, BSP, brute force, Embree).
+/// structure without them (grids, octree, BSP, brute force, Embree).
 std::unique_ptr<GeneralizedRays> make_generalized_rays(const Accelerator& accel, const Scene& scene);
 
 }  // namespace rayaccel::generalized

@@ -1,6 +1,7 @@
 // How generalized rays (beams, cones) see a structure's tree: the root, the children a region may meet (each child's
 // volume tested against the region conservatively), a leaf's primitives, and the structure's own single-ray
-// traversal started at any node (the entry point). One view per structure family: Bvh<BV> and the wide BVH.
+// traversal started at any node (the entry point). One view per structure family: Bvh<BV>, the wide BVH, and the
+// kd-tree (whose rays always start at the root: its traversal walks cells front to back from the root cell).
 // A region is any type with box_outside(AABB, slack) and sphere_outside(center, radius), true only when proven.
 #pragma once
 
@@ -9,6 +10,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "rayaccel/accel/kd_tree.h"
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/core/stats.h"
@@ -110,6 +112,52 @@ class WideView {
     }
   }
   const wide::WideBvh& bvh_;
+};
+
+/// The kd-tree: a reference is a node with its cell (children's cells split the parent's at the node's plane). A
+/// primitive hit at a point is referenced by the cell holding the point, so cells outside a region hide nothing.
+class KdView {
+ public:
+  struct Ref {
+    std::uint32_t node;
+    AABB cell;
+    friend bool operator==(const Ref& a, const Ref& b) { return a.node == b.node; }
+  };
+  explicit KdView(const KdTree& tree) : tree_(tree) {}
+
+  bool empty() const { return tree_.data().nodes.empty(); }
+  Ref root() const { return {0, tree_.data().bounds}; }
+  bool is_leaf(const Ref& ref) const { return tree_.data().nodes[ref.node].is_leaf(); }
+
+  template <class Region>
+  bool outside(const Ref& ref, const Region& region) const {
+    return region.box_outside(ref.cell, region_slack(ref.cell));
+  }
+  template <class Region, class F>
+  void for_each_child(const Ref& ref, const Region& region, TraversalStats& stats, F&& f) const {
+    const KdNode& node = tree_.data().nodes[ref.node];
+    const int axis = node.axis();
+    Ref below{ref.node + 1, ref.cell}, above{node.above_child(), ref.cell};
+    below.cell.hi[axis] = node.split;
+    above.cell.lo[axis] = node.split;
+    for (const Ref& child : {below, above}) {
+      stats.visit_node();
+      if (!outside(child, region)) f(child);
+    }
+  }
+  template <class F>
+  void for_each_prim(const Ref& leaf, F&& f) const {
+    const KdNode& node = tree_.data().nodes[leaf.node];
+    const std::uint32_t* ids = tree_.data().prim_indices.data() + node.prim_offset;
+    for (std::uint32_t i = 0; i < node.prim_count(); ++i) f(ids[i]);
+  }
+  /// From the root whatever `ref` is: the kd-tree's traversal clips the ray to the root cell and walks cells in order.
+  void trace_from(const Ref&, const PreparedRay& ray, Hit& hit, TraversalStats& stats) const {
+    tree_.trace<false>(ray, hit, stats);
+  }
+
+ private:
+  const KdTree& tree_;
 };
 
 }  // namespace rayaccel::generalized

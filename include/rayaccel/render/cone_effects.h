@@ -38,7 +38,7 @@ struct ConeEffectResult {
   std::uint64_t queries = 0;  ///< cones queried, or rays traced
 };
 
-/// Renders the effect through `accel` (built over `scene`); cones need bvh or bvh_wide (else Error naming the spec).
+/// Renders the effect through `accel` (built over `scene`); cones need bvh, bvh_wide or kdtree (else Error naming the spec).
 /// Soft shadows: grey = sRGB of 0.05 + 0.75 * unblocked * cos(angle to the light) at primary hits, the light from
 /// default_lights(). Anti-aliasing: normal colours (as the normals mode) over the pixel's cone, background where no
 /// primitive is hit. Throws Error for a bad size, samples or radius.

@@ -35,7 +35,7 @@ struct RenderSettings {
   /// heatmap mode: the colour scale (min and max; highest is ignored); empty = this image's own cost_range().
   std::optional<CostRange> heat_scale;
   /// Primary visibility by beams (generalized/beam_tracer.h) instead of one ray per pixel: the same hits, so the same
-  /// image; normals and ao modes over bvh and bvh_wide only (else Error).
+  /// image; normals and ao modes over bvh, bvh_wide and kdtree only (else Error).
   std::optional<generalized::BeamConfig> beams;
   /// Called with the fraction done (0..1) as rows finish; may be empty.
   std::function<void(float)> progress;
