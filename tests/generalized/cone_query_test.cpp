@@ -86,6 +86,36 @@ TEST_P(ConeConservative, ReportsEveryPrimitiveAnyRayInsideHits) {
 INSTANTIATE_TEST_SUITE_P(Conformance, ConeConservative, ::testing::ValuesIn(testing::generalized_specs()),
                          conformance::spec_test_name);
 
+TEST(ConeConservativeShared, BunnyConesReportEveryClosestHit) {
+  const auto file = testing::shared_scenes_dir() / "bunny.ply";
+  RAYACCEL_NEED_SHARED_FILE(file);
+  const Scene scene = load_scene(file.string());
+  auto accel = make_accelerator("bvh_wide");
+  accel->build(scene);
+  const auto rays = generalized::make_generalized_rays(*accel, scene);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  const AABB box = scene.bounds();
+  std::size_t hit_total = 0;
+  for (int c = 0; c < 4; ++c) {
+    Cone cone;
+    cone.apex = box.center() + Vec3{uniform(rng), uniform(rng), uniform(rng)} * length(box.extent());
+    cone.axis = box.center() + box.extent() * Vec3{uniform(rng), uniform(rng), uniform(rng)} * 0.3f - cone.apex;
+    cone.half_angle = 0.03f + 0.05f * std::fabs(uniform(rng));
+    std::set<std::uint32_t> ids;
+    for (const ConeHit& h : rays->query_cone(cone, {.samples = 16})) ids.insert(h.prim_id);
+    const Vec3 axis = normalize(cone.axis);
+    for (int i = 0; i < 2000; ++i) {
+      const Hit hit = accel->intersect(
+          Ray{cone.apex, cone.t_min, random_direction(axis, cone.half_angle * (1.0 - 1e-5), rng), cone.t_max});
+      if (!hit.found()) continue;
+      ++hit_total;
+      EXPECT_TRUE(ids.count(hit.prim_id)) << "cone " << c << " missed primitive " << hit.prim_id;
+    }
+  }
+  EXPECT_GT(hit_total, 1000u);
+}
+
 /// Solid angle of the part of the cap of angular radius `alpha` around a direction at angle `phi` from the axis that
 /// lies within `theta` of the axis: the integral over polar angle b of the arc inside the other cap (spherical law of
 /// cosines), by the midpoint rule on 200000 steps (its error is far below the pattern's).
