@@ -22,6 +22,7 @@ LAYERS = [
     ["accel"],     # the Accelerator interface and registry, and the spatial subdivisions
     ["bvh"],       # Bvh<BV> and its builders
     ["wide"],      # the wide BVH (built from bvh's binary trees)
+    ["generalized"],  # beams and cones traced over the BVH family and the wide BVH
     ["compare", "render"],  # Embree adapter; cameras, workloads, shading, images
     ["catalog"],   # the list of built-in structures: the one place that knows them all
 ]

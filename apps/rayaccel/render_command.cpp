@@ -12,6 +12,8 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "rayaccel/generalized/generalized_rays.h"
+#include "rayaccel/render/cone_effects.h"
 #include "rayaccel/render/image_compare.h"
 #include "rayaccel/render/renderer.h"
 #include "rayaccel/render/whitted.h"
@@ -45,7 +47,46 @@ struct RenderArgs {
   std::string reference;
   std::string json;
   std::string spp_map;
+  // normals and ao modes: primary visibility by beams
+  bool beams = false;
+  int beam_tile = 16;
+  bool beam_root = false;
+  // cone effects
+  std::string cones;
+  int cone_samples = 64;
+  int cone_rays = 0;
+  float cone_light_radius = 0.05f;
 };
+
+/// Renders --cones shadows|aa (or with --cone-rays its many-ray estimate) and prints its cost and error.
+void render_cone_mode(const RenderArgs& args, const Accelerator& accel, const Scene& scene, const Camera& camera,
+                      int width, int height, Progress& progress) {
+  ConeEffectSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.effect = parse_cone_effect(args.cones);
+  settings.cone_samples = args.cone_samples;
+  settings.rays = args.cone_rays;
+  settings.light_radius_fraction = args.cone_light_radius;
+  progress.stage(fmt::format("rendering {}x{} cone {}", width, height, args.cones));
+  const ConeEffectResult result = render_cone_effect(accel, scene, camera, settings);
+  result.image.save_png(args.out);
+  progress.done();
+  const double pixels = static_cast<double>(width) * height;
+  std::string error_text;
+  if (!args.reference.empty()) {
+    const ImageError e = compare_images(result.image, load_png(args.reference));
+    error_text = fmt::format(", RMSE {:.3f}, PSNR {:.2f} dB against {}", e.rmse, e.psnr, args.reference);
+  }
+  fmt::print("wrote {} ({}x{}, cones {}, {}): {} {} in {:.2f} ms; per pixel {:.2f} node visits, {:.2f} primitive "
+             "tests{}\n",
+             args.out, width, height, args.cones,
+             args.cone_rays > 0 ? fmt::format("{} rays per cone", args.cone_rays)
+                                : fmt::format("{} pattern directions per cone", args.cone_samples),
+             result.queries, args.cone_rays > 0 ? "rays traced" : "cones queried", result.milliseconds,
+             static_cast<double>(result.cost.nodes_visited) / pixels,
+             static_cast<double>(result.cost.primitives_tested) / pixels, error_text);
+}
 
 /// The whitted mode's settings, checked before any work.
 struct WhittedArgs {
@@ -158,6 +199,20 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   }
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
+  if (!args.cones.empty()) {
+    try {
+      parse_cone_effect(args.cones);
+    } catch (const Error& e) {
+      throw UsageError(std::string("--cones: ") + e.what());
+    }
+    if (whitted || args.beams) throw UsageError("--cones: not with --mode whitted or --beams");
+    require_range(args.cone_samples, 1, 65536, "--cone-samples");
+    require_range(args.cone_rays, 0, 65536, "--cone-rays");
+    if (!(args.cone_light_radius > 0.0f && args.cone_light_radius <= 1.0f)) {
+      throw UsageError(fmt::format("--cone-light-radius: {} is not in (0, 1]", args.cone_light_radius));
+    }
+    if (!args.reference.empty()) load_png(args.reference);  // a bad reference fails before the work
+  }
   check_output_path(args.out, "PNG");
   if (whitted && !args.json.empty()) check_output_path(args.json, "JSON file");
   if (whitted && !args.spp_map.empty()) check_output_path(args.spp_map, "samples-per-pixel PNG");
@@ -180,6 +235,10 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   accel->build(scene);
   const double build_ms = build_clock.milliseconds();
 
+  if (!args.cones.empty()) {
+    render_cone_mode(args, *accel, scene, camera, width, height, progress);
+    return 0;
+  }
   if (whitted) {
     render_whitted_mode(args, whitted_args, *accel, scene, camera, width, height, build_ms, progress);
     return 0;
@@ -192,6 +251,14 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   settings.ao_samples = args.ao_samples;
   settings.ao_max_samples = args.ao_max_samples;
   settings.ao_error = args.ao_error;
+  if (args.beams) {
+    if (mode == ShadingMode::heatmap) throw UsageError("--beams: not with --mode heatmap (no per-pixel cost)");
+    require_range(args.beam_tile, 1, 4096, "--beam-tile");
+    if (!generalized::supports_generalized_rays(*accel)) {
+      throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh, bvh_wide or kdtree)");
+    }
+    settings.beams = generalized::BeamConfig{.tile_size = args.beam_tile, .entry_points = !args.beam_root};
+  }
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
   const RenderResult result = render(*accel, scene, camera, settings);
@@ -203,6 +270,16 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
              args.out, width, height, args.mode, accel->spec(), build_ms, result.trace_milliseconds, result.rays,
              static_cast<double>(result.total.nodes_visited) / rays,
              static_cast<double>(result.total.primitives_tested) / rays);
+  if (result.beam_stats) {
+    const generalized::BeamStats& b = *result.beam_stats;
+    const double pixels = static_cast<double>(width) * height;
+    fmt::print("beams: {} beams; per pixel {:.3f} beam volume tests, {:.3f} beam/primitive tests, {:.3f} ray node "
+               "visits, {:.3f} ray/primitive tests; pixels {:.1f}% missed by beams, {:.1f}% one primitive test, "
+               "{:.1f}% on a proven front triangle, {:.1f}% traced from entry points\n",
+               b.beams, b.beam_node_tests / pixels, b.beam_primitive_tests / pixels, b.ray_node_visits / pixels,
+               b.ray_primitive_tests / pixels, 100.0 * b.pixels_missed / pixels, 100.0 * b.pixels_one_primitive / pixels,
+               100.0 * b.pixels_in_front / pixels, 100.0 * b.pixels_traced / pixels);
+  }
   return 0;
 }
 
@@ -246,9 +323,24 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--light-radius", args->light_radius,
                   "whitted: the light's radius as a fraction of the scene diagonal (0: a point light, no noise)")
       ->capture_default_str();
-  app->add_option("--reference", args->reference, "whitted: a PNG to measure the image's error (RMSE, PSNR) against");
+  app->add_option("--reference", args->reference,
+                  "whitted, --cones: a PNG to measure the image's error (RMSE, PSNR) against");
   app->add_option("--json", args->json, "whitted: write the rays traced by kind and the timings to this JSON file");
   app->add_option("--spp-map", args->spp_map, "whitted: write a heat map of samples per pixel to this PNG");
+  app->add_flag("--beams", args->beams,
+               "normals/ao: primary visibility by beams over bvh, bvh_wide or kdtree (the same hits as single rays)");
+  app->add_option("--beam-tile", args->beam_tile, "--beams: side of the first beams in pixels")->capture_default_str();
+  app->add_flag("--beam-root", args->beam_root,
+               "--beams: trace the undecided rays from the root instead of the tile's entry point (for comparison)");
+  app->add_option("--cones", args->cones,
+                  "shadows (soft shadows from a spherical light) or aa (one cone per pixel), by cone queries over bvh, "
+                  "bvh_wide or kdtree; with --cone-rays N the same estimate by N random rays per cone instead");
+  app->add_option("--cone-samples", args->cone_samples, "--cones: pattern directions per cone")->capture_default_str();
+  app->add_option("--cone-rays", args->cone_rays, "--cones: random rays per cone instead of the cone query (0: cones)")
+      ->capture_default_str();
+  app->add_option("--cone-light-radius", args->cone_light_radius,
+                  "--cones shadows: the light's radius over the scene diagonal")
+      ->capture_default_str();
   app->add_option("--out", args->out, "Output PNG file")->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads (>= 1)");
   CLI::Option* heat_max = app->add_option("--heat-max", args->heat_max, kHeatMaxHelp);

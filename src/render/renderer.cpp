@@ -11,6 +11,7 @@
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/generalized/generalized_rays.h"
 #include "rayaccel/render/colormap.h"
 #include "rayaccel/render/heatmap.h"
 #include "rayaccel/render/sampling.h"
@@ -21,7 +22,6 @@ namespace rayaccel {
 
 namespace {
 
-constexpr Rgb kBackground{28, 30, 38};
 constexpr std::size_t kRaysPerChunk = std::size_t{1} << 15;  // enough rays per batch to keep every core busy
 constexpr float kAoAlbedo = 0.8f;
 
@@ -143,13 +143,6 @@ std::vector<float> ambient_visibility(const Accelerator& accel, const Scene& sce
   return visible;
 }
 
-Rgb normal_colour(const Vec3& n) {
-  const Vec3 a = abs(n);
-  return {static_cast<std::uint8_t>(std::lround(std::clamp(a.x, 0.0f, 1.0f) * 255.0f)),
-          static_cast<std::uint8_t>(std::lround(std::clamp(a.y, 0.0f, 1.0f) * 255.0f)),
-          static_cast<std::uint8_t>(std::lround(std::clamp(a.z, 0.0f, 1.0f) * 255.0f))};
-}
-
 HeatFrame heat_frame(const Scene& scene, int width, int height, std::span<const Ray> rays, std::span<const Hit> hits,
                      std::span<const TraversalStats> stats) {
   HeatFrame frame;
@@ -190,6 +183,18 @@ RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& 
   std::vector<Hit> hits(rays.size());
   std::vector<TraversalStats> stats(rays.size());
   result.rays = rays.size();
+  if (settings.beams) {
+    if (settings.mode == ShadingMode::heatmap) throw Error("render: beams give no per-pixel cost for a heat map");
+    const auto beams = generalized::make_generalized_rays(accel, scene);
+    const CameraFrame frame = camera.frame(width, height);
+    const generalized::PixelRays pixels{width, height, [&frame](float x, float y) { return frame.ray_at(x, y); }};
+    Timer timer(result.trace_milliseconds);
+    generalized::BeamResult traced = beams->trace_beams(pixels, *settings.beams);
+    hits = std::move(traced.hits);
+    result.beam_stats = traced.stats;
+    result.total.nodes_visited += traced.stats.beam_node_tests + traced.stats.ray_node_visits;
+    result.total.primitives_tested += traced.stats.beam_primitive_tests + traced.stats.ray_primitive_tests;
+  }
 
   const int chunk_rows = static_cast<int>(std::max<std::size_t>(1, kRaysPerChunk / static_cast<std::size_t>(width)));
   for (int y0 = 0, chunk = 0; y0 < height; y0 += chunk_rows, ++chunk) {
@@ -198,7 +203,7 @@ RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& 
     const std::size_t count = static_cast<std::size_t>(y1 - y0) * width;
     const std::span<const Ray> chunk_rays(rays.data() + first, count);
     const std::span<Hit> chunk_hits(hits.data() + first, count);
-    {
+    if (!settings.beams) {
       Timer timer(result.trace_milliseconds);
       accel.intersect(chunk_rays, chunk_hits, std::span<TraversalStats>(stats.data() + first, count));
     }

@@ -1,7 +1,9 @@
 // Shading quantities of a hit (see render/shading.h).
 #include "rayaccel/render/shading.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace rayaccel {
 
@@ -21,6 +23,13 @@ Vec3 geometric_normal(const Scene& scene, const Ray& ray, const Hit& hit) {
     }
   }
   return {};
+}
+
+Rgb normal_colour(const Vec3& n) {
+  const Vec3 a = abs(n);
+  return {static_cast<std::uint8_t>(std::lround(std::clamp(a.x, 0.0f, 1.0f) * 255.0f)),
+          static_cast<std::uint8_t>(std::lround(std::clamp(a.y, 0.0f, 1.0f) * 255.0f)),
+          static_cast<std::uint8_t>(std::lround(std::clamp(a.z, 0.0f, 1.0f) * 255.0f))};
 }
 
 }  // namespace rayaccel

@@ -145,7 +145,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
     // packets): ray by ray, with the single-ray traversal.
     const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays, std::make_index_sequence<8>{});
     for (int i = 0; i < kPacketSize; ++i) {
-      if (lanes_in.active >> i & 1) traverse<BoxKernel<S>, false>(nodes8_, prepared[i], hit[i], none);
+      if (lanes_in.active >> i & 1) traverse<BoxKernel<S>, false>(nodes8_, root_, prepared[i], hit[i], none);
     }
   } else if (lanes_in.active) {
     // With the same direction signs in every active ray (coherent packets almost always), each axis's near plane is

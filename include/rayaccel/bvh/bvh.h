@@ -84,16 +84,24 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   /// The one traversal: closest hit (nearer child first) or, with AnyHit, the first hit found.
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    trace_from<AnyHit>(0, ray, hit, stats);
+  }
+  /// trace() started at node `start` instead of the root (entry points of generalized rays): the same answer as
+  /// trace() for a ray whose every possible hit lies in start's subtree, as nodes outside it change nothing.
+  template <bool AnyHit, class Stats>
+  void trace_from(std::uint32_t start, const PreparedRay& ray, Hit& hit, Stats& stats) const {
     if (nodes_.empty()) return;
     if (triangles_.empty()) {
-      trace_nodes<AnyHit, false>(ray, hit, stats);
+      trace_nodes<AnyHit, false>(start, ray, hit, stats);
     } else {
-      trace_nodes<AnyHit, true>(ray, hit, stats);
+      trace_nodes<AnyHit, true>(start, ray, hit, stats);
     }
   }
 
   const BvhConfig& config() const { return config_; }
   const std::vector<Node>& nodes() const { return nodes_; }
+  /// The scene's primitive id held by leaf slot `slot` (a leaf holds slots [index, index + count)).
+  std::uint32_t slot_prim_id(std::uint32_t slot) const { return prim_ids_[slot]; }
   /// Levels of the tree (0 when empty); never more than kBvhMaxDepth.
   int depth() const { return depth_; }
 
@@ -103,7 +111,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   /// Flattened: every volume and triangle test is inlined into the loop (GCC otherwise keeps the slab test out of
   /// line, a call per child visited).
   template <bool AnyHit, bool Triangles, class Stats>
-  [[gnu::flatten]] void trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  [[gnu::flatten]] void trace_nodes(std::uint32_t start, const PreparedRay& ray, Hit& hit, Stats& stats) const;
 
   void flatten(const BuildTree& tree);
   /// Points whose hull encloses the part of a primitive one slot covers; returns their count.
@@ -133,19 +141,19 @@ inline float bvh_cull_bound(float t) { return t + std::fabs(t) * 0x1p-12f; }
 
 template <BoundingVolume BV>
 template <bool AnyHit, bool Triangles, class Stats>
-void Bvh<BV>::trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+void Bvh<BV>::trace_nodes(std::uint32_t start, const PreparedRay& ray, Hit& hit, Stats& stats) const {
   const typename BV::RayContext context = BV::prepare(ray);
   const Node* nodes = nodes_.data();
   float t_entry = ray.t_min;
   stats.visit_node();
-  if (!nodes[0].volume.intersect(context, ray.t_min, bvh_cull_bound(hit.t), &t_entry)) return;
+  if (!nodes[start].volume.intersect(context, ray.t_min, bvh_cull_bound(hit.t), &t_entry)) return;
   struct Entry {
     std::uint32_t node;
     float t_entry;
   };
   Entry stack[kBvhMaxDepth];  // one deferred sibling per level at most: depth <= kBvhMaxDepth (checked by validate)
   int top = 0;
-  std::uint32_t current = 0;
+  std::uint32_t current = start;
   for (;;) {
     const Node& node = nodes[current];
     if (node.count > 0) {

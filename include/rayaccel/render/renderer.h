@@ -12,6 +12,7 @@
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/scene/scene.h"
 #include "rayaccel/core/stats.h"
+#include "rayaccel/generalized/beam_tracer.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/heatmap.h"
 #include "rayaccel/render/image.h"
@@ -33,6 +34,9 @@ struct RenderSettings {
   std::uint64_t seed = 1;
   /// heatmap mode: the colour scale (min and max; highest is ignored); empty = this image's own cost_range().
   std::optional<CostRange> heat_scale;
+  /// Primary visibility by beams (generalized/beam_tracer.h) instead of one ray per pixel: the same hits, so the same
+  /// image; normals and ao modes over bvh, bvh_wide and kdtree only (else Error).
+  std::optional<generalized::BeamConfig> beams;
   /// Called with the fraction done (0..1) as rows finish; may be empty.
   std::function<void(float)> progress;
 };
@@ -43,6 +47,7 @@ struct RenderResult {
   TraversalStats total;              ///< summed over every ray traced
   std::uint64_t rays = 0;            ///< primary rays plus ambient-occlusion rays
   HeatFrame heat;                    ///< heatmap mode: what the image was drawn from (to redraw on another scale)
+  std::optional<generalized::BeamStats> beam_stats;  ///< with settings.beams: how the primary rays were resolved
 };
 
 /// Renders `scene` (which `accel` must have been built over) through accel's batch API, in chunks of rows whose

@@ -83,14 +83,35 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    trace_from<AnyHit>(root_, ray, hit, stats);
+  }
+  /// trace() started at child reference `start` (a node index, or a leaf reference) instead of the root (entry
+  /// points of generalized rays): the same answer as trace() for a ray whose every possible hit lies under `start`.
+  template <bool AnyHit, class Stats>
+  void trace_from(std::uint32_t start, const PreparedRay& ray, Hit& hit, Stats& stats) const {
     // Eight lanes (AVX2 or its AVX-512 build) test eight-wide nodes, four SSE2 lanes four-wide ones.
     simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
       if constexpr (Lanes::kWidth == 8) {
-        traverse<BoxKernel<Lanes>, AnyHit>(nodes8_, ray, hit, stats);
+        traverse<BoxKernel<Lanes>, AnyHit>(nodes8_, start, ray, hit, stats);
       } else {
-        traverse<BoxKernel<Lanes>, AnyHit>(nodes4_, ray, hit, stats);
+        traverse<BoxKernel<Lanes>, AnyHit>(nodes4_, start, ray, hit, stats);
       }
     });
+  }
+
+  /// Read access for traversals of other kinds (generalized rays): the root reference (kEmptyChild when empty),
+  /// the nodes of the built width, and the primitives of a leaf reference (kInvalidPrimId marks an unused lane).
+  std::uint32_t root() const { return root_; }
+  const NodeArray<4>& nodes4() const { return nodes4_; }
+  const NodeArray<8>& nodes8() const { return nodes8_; }
+  template <class F>
+  void for_each_leaf_prim(std::uint32_t leaf_ref, F&& f) const {
+    const std::uint32_t first = leaf_first_block(leaf_ref), end = first + leaf_block_count(leaf_ref);
+    for (std::uint32_t b = first; b < end; ++b) {
+      for (std::uint32_t id : blocks_[b].prim_id) {
+        if (id != kInvalidPrimId) f(id);
+      }
+    }
   }
 
  private:
@@ -113,8 +134,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <class S>
   RAYACCEL_LANE_INLINE void trace_packet(const Ray* rays, int count, Hit* hits) const;
   template <class Kernel, bool AnyHit, class Stats>
-  RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit,
-                                     Stats& stats) const;
+  RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                     const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
   RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet,
                                            const PreparedRay& ray, Hit& hit, Stats& stats) const;
@@ -168,13 +189,13 @@ RAYACCEL_LANE_INLINE bool WideBvh::intersect_leaf(std::uint32_t ref, const Trian
 }
 
 template <class Kernel, bool AnyHit, class Stats>
-RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, const PreparedRay& ray, Hit& hit,
-                              Stats& stats) const {
+RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                             const PreparedRay& ray, Hit& hit, Stats& stats) const {
   constexpr int W = Kernel::kWidth;
-  if (root_ == kEmptyChild) return;
+  if (start == kEmptyChild) return;
   const TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
-  std::uint32_t ref = root_;
+  std::uint32_t ref = start;
   if constexpr (AnyHit) {
     // Any hit: the far bound stays hit.t until the first hit ends the query, so nothing on the stack can be culled
     // by a closer hit: it holds bare references, and the children met are taken in lane order (the first entered,

@@ -1,0 +1,124 @@
+// The cone query (Amanatides 1984): every primitive a cone may meet within its distance range, nearest first, each with
+// the fraction of the cone it covers. The tree is walked once with the conservative cone/volume tests of cone.h;
+// coverage is measured on the cone's direction pattern with the single-ray kernel.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "rayaccel/core/error.h"
+#include "rayaccel/core/stats.h"
+#include "rayaccel/generalized/cone.h"
+#include "rayaccel/scene/scene.h"
+
+namespace rayaccel::generalized {
+
+struct ConeQueryConfig {
+  /// Directions of the pattern that measures coverage (cone.h), >= 1. Coverage is a multiple of 1 / samples; a
+  /// primitive's estimate errs by at most the fraction of pattern cells its outline crosses.
+  int samples = 256;
+};
+
+struct ConeHit {
+  std::uint32_t prim_id = 0;
+  /// Distance from the apex: the smallest t at which a pattern ray hits the primitive; for a primitive no pattern ray
+  /// hits (coverage 0: it meets the cone only between them, or may not meet it at all), the distance from the apex
+  /// to its bounding box.
+  float distance = 0.0f;
+  /// Coverage: the fraction of the cone's solid angle whose rays hit the primitive within [t_min, t_max], as if it
+  /// were alone (occlusion by other primitives is not subtracted), estimated as the fraction of pattern directions
+  /// whose ray the kernel reports hitting it.
+  float coverage = 0.0f;
+};
+
+/// What the cone sees: each pattern direction's ray takes the closest hit among the candidates (ties to the lower id).
+struct ConeVisibility {
+  float blocked = 0.0f;  ///< fraction of pattern directions whose ray hits something within the range
+  /// Each primitive that is the closest hit of some pattern ray: coverage = the fraction of pattern directions on
+  /// which it is (its visible share of the cone; the shares sum to `blocked`), distance = its nearest such hit.
+  std::vector<ConeHit> visible;
+};
+
+/// Every primitive the cone may meet: conservative (a primitive hit by any ray inside the cone within its range is
+/// always reported; a primitive the cone misses may be reported with coverage 0), ordered by distance, then id.
+/// `stats`, when given, counts volume tests as node visits and cone/primitive tests plus pattern ray tests.
+template <class View>
+std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+                                TraversalStats* stats = nullptr);
+
+/// The cone's visibility (ConeVisibility) over the candidates query_cone() would report; `stats` as there.
+template <class View>
+ConeVisibility cone_visibility(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+                               TraversalStats* stats = nullptr);
+
+namespace cone_detail {
+/// The coverage and distance of each candidate, sorted (cone_query.cpp).
+std::vector<ConeHit> measure(const Scene& scene, const PreparedCone& cone, std::vector<std::uint32_t> candidates,
+                             const ConeQueryConfig& config, TraversalStats& stats);
+ConeVisibility visibility(const Scene& scene, const PreparedCone& cone, const std::vector<std::uint32_t>& candidates,
+                          const ConeQueryConfig& config, TraversalStats& stats);
+void check_config(const ConeQueryConfig& config);
+
+template <class View>
+void collect(const View& view, const Scene& scene, const PreparedCone& cone, typename View::Ref ref,
+             std::vector<std::uint32_t>& out, TraversalStats& stats) {
+  if (view.is_leaf(ref)) {
+    const bool triangles = scene.kind() == PrimitiveKind::triangles;
+    view.for_each_prim(ref, [&](std::uint32_t id) {
+      stats.test_primitive();
+      if (triangles) {
+        const auto t = scene.triangle(id);
+        if (cone.triangle_outside(t[0], t[1], t[2])) return;
+      } else if (cone.box_outside(scene.primitive_bounds(id), 0.0f)) {
+        return;
+      }
+      out.push_back(id);
+    });
+    return;
+  }
+  view.for_each_child(ref, cone, stats, [&](typename View::Ref child) { collect(view, scene, cone, child, out, stats); });
+}
+}  // namespace cone_detail
+
+namespace cone_detail {
+/// The sorted, distinct candidates of a cone.
+template <class View>
+std::vector<std::uint32_t> candidates(const View& view, const Scene& scene, const PreparedCone& cone,
+                                      TraversalStats& stats) {
+  std::vector<std::uint32_t> out;
+  if (!view.empty()) {
+    stats.visit_node();
+    if (!view.outside(view.root(), cone)) collect(view, scene, cone, view.root(), out, stats);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+}  // namespace cone_detail
+
+template <class View>
+std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+                                TraversalStats* stats) {
+  cone_detail::check_config(config);
+  const PreparedCone prepared(cone);
+  TraversalStats local;
+  std::vector<ConeHit> hits =
+      cone_detail::measure(scene, prepared, cone_detail::candidates(view, scene, prepared, local), config, local);
+  if (stats) *stats += local;
+  return hits;
+}
+
+template <class View>
+ConeVisibility cone_visibility(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+                               TraversalStats* stats) {
+  cone_detail::check_config(config);
+  const PreparedCone prepared(cone);
+  TraversalStats local;
+  ConeVisibility out =
+      cone_detail::visibility(scene, prepared, cone_detail::candidates(view, scene, prepared, local), config, local);
+  if (stats) *stats += local;
+  return out;
+}
+
+}  // namespace rayaccel::generalized

@@ -1,0 +1,55 @@
+// Beam tracer configuration checks, statistics and the image's pixel rays.
+#include "rayaccel/generalized/beam_tracer.h"
+
+#include <string>
+
+namespace rayaccel::generalized {
+
+void check_config(const BeamConfig& config) {
+  if (config.tile_size < 1) throw Error("beams: tile_size " + std::to_string(config.tile_size) + " < 1");
+  if (config.min_tile < 1) throw Error("beams: min_tile " + std::to_string(config.min_tile) + " < 1");
+  if (!(config.max_candidates_per_pixel >= 0.0f)) {
+    throw Error("beams: max_candidates_per_pixel " + std::to_string(config.max_candidates_per_pixel) + " < 0");
+  }
+  if (config.max_front_candidates < 0) {
+    throw Error("beams: max_front_candidates " + std::to_string(config.max_front_candidates) + " < 0");
+  }
+}
+
+BeamStats& BeamStats::operator+=(const BeamStats& o) {
+  beams += o.beams;
+  beam_node_tests += o.beam_node_tests;
+  beam_primitive_tests += o.beam_primitive_tests;
+  ray_node_visits += o.ray_node_visits;
+  ray_primitive_tests += o.ray_primitive_tests;
+  pixels_missed += o.pixels_missed;
+  pixels_one_primitive += o.pixels_one_primitive;
+  pixels_in_front += o.pixels_in_front;
+  pixels_traced += o.pixels_traced;
+  return *this;
+}
+
+namespace beam_detail {
+
+std::vector<Ray> pixel_rays(const PixelRays& pixels) {
+  if (pixels.width <= 0 || pixels.height <= 0) {
+    throw Error("beams: image size " + std::to_string(pixels.width) + "x" + std::to_string(pixels.height) +
+                " is not positive");
+  }
+  if (!pixels.ray_at) throw Error("beams: no ray_at function for the pixels");
+  std::vector<Ray> rays(std::size_t(pixels.width) * std::size_t(pixels.height));
+  for (int y = 0; y < pixels.height; ++y) {
+    for (int x = 0; x < pixels.width; ++x) {
+      rays[std::size_t(y) * std::size_t(pixels.width) + std::size_t(x)] =
+          pixels.ray_at(float(x) + 0.5f, float(y) + 0.5f);
+    }
+  }
+  for (const Ray& r : rays) {
+    if (!(r.origin == rays[0].origin)) throw Error("beams: the pixel rays do not share one origin");
+  }
+  return rays;
+}
+
+}  // namespace beam_detail
+
+}  // namespace rayaccel::generalized
