@@ -48,6 +48,8 @@ inline bool intersect_hull(const PreparedRay& r, const AABB& box, const HullPlan
     const HullPlane& p = planes[i];
     const float o = dot(p.normal, f);
     const float d = dot(p.normal, r.direction);
+    // A projection that overflowed (directions near FLT_MAX) would make t a false zero: such a plane is skipped.
+    if (!(std::fabs(d) <= std::numeric_limits<float>::max())) continue;
     // Divided, not multiplied by 1/d, as in ray_obb.h. d < 0 (or -0): the ray enters the half-space, t is an entry
     // bound; otherwise it leaves it. A NaN (ray in the plane, or an overflowed slack) constrains nothing.
     const float t = (p.offset + slack - o) / d;
