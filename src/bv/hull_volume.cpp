@@ -6,12 +6,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "convex_hull.h"
 #include "fit_support.h"
 #include "polytope_area.h"
+#include "rayaccel/core/error.h"
 #include "rayaccel/core/float_rounding.h"
 
 namespace rayaccel {
@@ -33,7 +36,18 @@ double box_support(const AABB& box, const Vec3d& n) {
 
 }  // namespace
 
-HullVolume HullVolume::fit(std::span<const Vec3> points) {
+HullVolume::HullVolume() {
+  std::fill(std::begin(planes.normal_x), std::end(planes.normal_x), 0.0f);
+  std::fill(std::begin(planes.normal_y), std::end(planes.normal_y), 0.0f);
+  std::fill(std::begin(planes.normal_z), std::end(planes.normal_z), 0.0f);
+  std::fill(std::begin(planes.offset), std::end(planes.offset), std::numeric_limits<float>::infinity());
+}
+
+HullVolume HullVolume::fit(std::span<const Vec3> points, int max_planes) {
+  if (max_planes < 0 || max_planes > kMaxPlanes) {
+    throw Error("hull volume: max_planes " + std::to_string(max_planes) + " is outside 0.." +
+                std::to_string(kMaxPlanes));
+  }
   HullVolume v;
   for (const Vec3& p : points) v.box.extend(p);
   if (points.empty()) return v;
@@ -60,17 +74,20 @@ HullVolume HullVolume::fit(std::span<const Vec3> points) {
   const double margin = 0x1p-48 * extent;
   std::vector<Vec3d> chosen;
   for (const Scored& s : candidates) {
-    if (v.plane_count == kMaxPlanes) break;
+    if (v.plane_count == std::uint32_t(max_planes)) break;
     const bool parallel = std::any_of(chosen.begin(), chosen.end(),
                                       [&](const Vec3d& n) { return bv_detail::dot(n, s.normal) > kParallelCosine; });
     if (parallel) continue;
     chosen.push_back(s.normal);
-    HullPlane& plane = v.planes[v.plane_count++];
-    plane.normal = bv_detail::to_float(s.normal);
-    const Vec3d n(plane.normal);
+    const int lane = static_cast<int>(v.plane_count++);
+    const Vec3 normal = bv_detail::to_float(s.normal);
+    v.planes.normal_x[lane] = normal.x;
+    v.planes.normal_y[lane] = normal.y;
+    v.planes.normal_z[lane] = normal.z;
+    const Vec3d n(normal);
     double support = -std::numeric_limits<double>::infinity();
     for (const Vec3& p : points) support = std::max(support, bv_detail::dot(n, Vec3d(p) - cd));
-    plane.offset = round_up_to_float(support + margin);
+    v.planes.offset[lane] = round_up_to_float(support + margin);
   }
   return v;
 }
@@ -80,8 +97,8 @@ float HullVolume::surface_area() const {
   std::vector<bv_detail::Halfspace> cuts;
   const Vec3d c(hull_reference_point(box));
   for (std::uint32_t i = 0; i < plane_count; ++i) {
-    const Vec3d n(planes[i].normal);
-    cuts.push_back({n, double(planes[i].offset) + bv_detail::dot(n, c)});
+    const Vec3d n(planes.normal(int(i)));
+    cuts.push_back({n, double(planes.offset[i]) + bv_detail::dot(n, c)});
   }
   return static_cast<float>(bv_detail::polytope_area(box, cuts));
 }
@@ -97,7 +114,7 @@ bool HullVolume::contains(const Vec3& p) const {
   }
   const Vec3d d = Vec3d(p) - Vec3d(c);
   for (std::uint32_t i = 0; i < plane_count; ++i) {
-    if (!(bv_detail::dot(Vec3d(planes[i].normal), d) <= double(planes[i].offset) + tolerance)) return false;
+    if (!(bv_detail::dot(Vec3d(planes.normal(int(i))), d) <= double(planes.offset[i]) + tolerance)) return false;
   }
   return true;
 }

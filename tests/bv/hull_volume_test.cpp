@@ -52,12 +52,12 @@ TEST(BvHull, EveryPlaneTouchesThePoints) {
     for (std::uint32_t i = 0; i < v.plane_count; ++i) {
       double support = -std::numeric_limits<double>::infinity();
       for (const Vec3& p : cloud.points) {
-        const Vec3& n = v.planes[i].normal;
+        const Vec3 n = v.planes.normal(int(i));
         support = std::max(support, double(n.x) * (double(p.x) - c.x) + double(n.y) * (double(p.y) - c.y) +
                                         double(n.z) * (double(p.z) - c.z));
       }
-      EXPECT_LE(support, v.planes[i].offset) << cloud.name;
-      EXPECT_GE(support, v.planes[i].offset - 1e-5 * (scale + 1e-30)) << cloud.name;
+      EXPECT_LE(support, v.planes.offset[i]) << cloud.name;
+      EXPECT_GE(support, v.planes.offset[i] - 1e-5 * (scale + 1e-30)) << cloud.name;
     }
   }
 }
@@ -80,11 +80,11 @@ bool reference_interval(const HullVolume& v, const Ray& ray, double grow, double
   }
   const Vec3 c = hull_reference_point(v.box);
   for (std::uint32_t i = 0; i < v.plane_count; ++i) {
-    const Vec3& n = v.planes[i].normal;
+    const Vec3 n = v.planes.normal(int(i));
     const double o = double(n.x) * (double(ray.origin.x) - c.x) + double(n.y) * (double(ray.origin.y) - c.y) +
                      double(n.z) * (double(ray.origin.z) - c.z);
     const double d = double(n.x) * ray.direction.x + double(n.y) * ray.direction.y + double(n.z) * ray.direction.z;
-    if (!clip(o, d, double(v.planes[i].offset) + grow)) return false;
+    if (!clip(o, d, double(v.planes.offset[i]) + grow)) return false;
   }
   return t0 <= t1;
 }
