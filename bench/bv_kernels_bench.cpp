@@ -13,6 +13,7 @@
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bv/tightness.h"
+#include "rayaccel/bvh/bvh.h"
 #include "rayaccel/geometry/ray_triangle.h"
 
 namespace rayaccel {
@@ -71,6 +72,7 @@ void BM_VolumeRayTest(benchmark::State& state) {
   state.counters["hit_rate"] = double(hits) / double(state.iterations() * kRayCount * kNodeCount);
   state.counters["ns_per_test"] = benchmark::Counter(double(state.iterations() * kRayCount * kNodeCount),
                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["bytes_per_node"] = double(sizeof(BvhNode<BV>));
 }
 BENCHMARK(BM_VolumeRayTest<AabbVolume>)->Name("ray_test/aabb");
 BENCHMARK(BM_VolumeRayTest<SphereVolume>)->Name("ray_test/sphere");
