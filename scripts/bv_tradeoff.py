@@ -44,7 +44,8 @@ def kernel_figures(kernel_json):
         if b.get("aggregate_name") != "median" or not b["name"].startswith("ray_test/"):
             continue
         volume = b["name"].split("/")[1].replace("_median", "")
-        figures[volume] = (b["ns_per_test"], b.get("bytes_per_node"))
+        # An inverted rate counter is written in seconds per item.
+        figures[volume] = (b["ns_per_test"] * 1e9, b.get("bytes_per_node"))
     return figures
 
 
@@ -88,15 +89,18 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
-        for v in VOLUMES:
+        colors = plt.get_cmap("tab10")
+        for i, v in enumerate(VOLUMES):
             if v not in kernels or not tightness[v]:
                 continue
             ns = kernels[v][0]
             mean_t = sum(tightness[v]) / len(tightness[v])
-            left.scatter([ns], [mean_t])
-            left.annotate(v, (ns, mean_t), textcoords="offset points", xytext=(5, 4))
-            right.scatter([ns] * len(speedup[v]), speedup[v], s=14)
-            right.annotate(v, (ns, max(speedup[v])), textcoords="offset points", xytext=(5, 4))
+            left.scatter([ns], [mean_t], color=colors(i), label=v)
+            left.annotate(v, (ns, mean_t), textcoords="offset points", xytext=(5, 4 if i % 2 else -11), fontsize=8)
+            right.scatter([ns] * len(speedup[v]), speedup[v], s=16, color=colors(i), label=v)
+        right.legend(fontsize=7)
+        for axis in (left, right):
+            axis.set_xscale("log")
         left.set_xlabel("ns per ray/volume test (Google Benchmark, median)")
         left.set_ylabel("node area / area of the contents' box\n(mean over nodes, mean over 5 scenes)")
         left.set_title("tightness against test cost (lower left is better)")
