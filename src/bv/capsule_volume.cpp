@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <vector>
 
 #include "fit_support.h"
@@ -67,7 +69,7 @@ Candidate fit_on_axis(std::span<const Vec3> points, const Vec3d& u) {
     if (need_end <= need_start) need_end = need_start = 0.5 * (need_end + need_start);
     const double start = need_start, end = need_end;
     const double length = end - start;
-    const double area = 2.0 * std::numbers::pi * r * length + 4.0 * std::numbers::pi * r2;
+    const double area = 2.0 * std::numbers::pi * std::sqrt(r2) * length + 4.0 * std::numbers::pi * r2;
     if (area < best.area) best = {origin + u * start, origin + u * end, std::sqrt(r2), area};
     if (length == 0.0) break;  // larger radii only grow the sphere
   }
