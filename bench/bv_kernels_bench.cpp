@@ -7,10 +7,13 @@
 #include <vector>
 
 #include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bv/capsule_volume.h"
+#include "rayaccel/bv/hull_volume.h"
 #include "rayaccel/bv/kdop_volume.h"
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bv/tightness.h"
+#include "rayaccel/bvh/bvh.h"
 #include "rayaccel/geometry/ray_triangle.h"
 
 namespace rayaccel {
@@ -69,6 +72,7 @@ void BM_VolumeRayTest(benchmark::State& state) {
   state.counters["hit_rate"] = double(hits) / double(state.iterations() * kRayCount * kNodeCount);
   state.counters["ns_per_test"] = benchmark::Counter(double(state.iterations() * kRayCount * kNodeCount),
                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["bytes_per_node"] = double(sizeof(BvhNode<BV>));
 }
 BENCHMARK(BM_VolumeRayTest<AabbVolume>)->Name("ray_test/aabb");
 BENCHMARK(BM_VolumeRayTest<SphereVolume>)->Name("ray_test/sphere");
@@ -76,6 +80,8 @@ BENCHMARK(BM_VolumeRayTest<ObbVolume>)->Name("ray_test/obb");
 BENCHMARK(BM_VolumeRayTest<Kdop14Volume>)->Name("ray_test/kdop14");
 BENCHMARK(BM_VolumeRayTest<Kdop18Volume>)->Name("ray_test/kdop18");
 BENCHMARK(BM_VolumeRayTest<Kdop26Volume>)->Name("ray_test/kdop26");
+BENCHMARK(BM_VolumeRayTest<HullVolume>)->Name("ray_test/hull");
+BENCHMARK(BM_VolumeRayTest<CapsuleVolume>)->Name("ray_test/capsule");
 
 void BM_TriangleTest(benchmark::State& state) {
   std::vector<PreparedRay> rays;
@@ -127,6 +133,8 @@ BENCHMARK(BM_Fit<AabbVolume>)->Name("fit/aabb")->Arg(3)->Arg(36)->Arg(3000);
 BENCHMARK(BM_Fit<SphereVolume>)->Name("fit/sphere")->Arg(3)->Arg(36)->Arg(3000);
 BENCHMARK(BM_Fit<ObbVolume>)->Name("fit/obb")->Arg(3)->Arg(36)->Arg(3000);
 BENCHMARK(BM_Fit<Kdop26Volume>)->Name("fit/kdop26")->Arg(3)->Arg(36)->Arg(3000);
+BENCHMARK(BM_Fit<HullVolume>)->Name("fit/hull")->Arg(3)->Arg(36)->Arg(3000);
+BENCHMARK(BM_Fit<CapsuleVolume>)->Name("fit/capsule")->Arg(3)->Arg(36)->Arg(3000);
 
 void BM_KdopArea(benchmark::State& state) {
   const Kdop26Volume v = Kdop26Volume::fit(make_point_sets()[0]);
@@ -175,6 +183,22 @@ RAYACCEL_TIGHTNESS(ObbVolume, "obb");
 RAYACCEL_TIGHTNESS(Kdop14Volume, "kdop14");
 RAYACCEL_TIGHTNESS(Kdop18Volume, "kdop18");
 RAYACCEL_TIGHTNESS(Kdop26Volume, "kdop26");
+RAYACCEL_TIGHTNESS(HullVolume, "hull");
+RAYACCEL_TIGHTNESS(CapsuleVolume, "capsule");
+
+/// What each hull plane buys: tightness of the capped hull with 0..kMaxPlanes planes on shape 1 (a cap of a sphere
+/// surface, a typical mesh node) and 2 (a thin rotated sliver); range(0) = planes, range(1) = shape.
+void BM_HullPlanes(benchmark::State& state) {
+  TightnessSums sums;
+  const auto sets = shape_sets(int(state.range(1)));
+  for (auto _ : state) {
+    sums = {};
+    for (const auto& pts : sets) sums.add(HullVolume::fit(pts, int(state.range(0))).surface_area(), pts);
+  }
+  state.counters["area_over_aabb"] = sums.over_aabb();
+  state.counters["area_over_hull"] = sums.over_hull();
+}
+BENCHMARK(BM_HullPlanes)->Name("tightness/hull_planes")->ArgsProduct({{0, 2, 4, 6, 8}, {1, 2}})->Iterations(1);
 
 }  // namespace
 }  // namespace rayaccel

@@ -5,12 +5,14 @@
 #include <cmath>
 #include <vector>
 
+#include "convex_hull.h"
 #include "fit_support.h"
 #include "rayaccel/bv/tightness.h"
 
 namespace rayaccel {
 namespace {
 
+using bv_detail::ConvexHull;
 using bv_detail::Vec3d;
 
 struct Face {
@@ -27,11 +29,11 @@ double cross2(double ox, double oy, double ax, double ay, double bx, double by) 
   return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox);
 }
 
-/// Area of the 2D convex hull of (u, v) pairs, by Andrew's monotone chain.
-double hull_area_2d(std::vector<std::pair<double, double>> pts) {
+/// The 2D convex hull of (u, v) pairs by Andrew's monotone chain, counterclockwise, without repeated points.
+std::vector<std::pair<double, double>> hull_2d(std::vector<std::pair<double, double>> pts) {
   std::sort(pts.begin(), pts.end());
   pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  if (pts.size() < 3) return 0.0;
+  if (pts.size() < 3) return {};
   std::vector<std::pair<double, double>> hull(2 * pts.size());
   std::size_t k = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -46,10 +48,8 @@ double hull_area_2d(std::vector<std::pair<double, double>> pts) {
       --k;
     hull[k++] = pts[i];
   }
-  double area2 = 0.0;
-  for (std::size_t i = 0; i + 1 < k; ++i)
-    area2 += hull[i].first * hull[i + 1].second - hull[i + 1].first * hull[i].second;
-  return 0.5 * std::fabs(area2);
+  hull.resize(k - 1);  // the chain ends where it started
+  return hull;
 }
 
 class Quickhull {
@@ -59,7 +59,7 @@ class Quickhull {
     for (const Vec3& p : points) pts_.emplace_back(p);
   }
 
-  HullMeasure run() {
+  ConvexHull run() {
     if (pts_.size() < 3) return {};
     double scale = 0.0;
     for (const Vec3d& p : pts_) scale = std::max({scale, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
@@ -67,7 +67,7 @@ class Quickhull {
     int simplex[4];
     const int found = initial_simplex(simplex);
     if (found < 3) return {};
-    if (found == 3) return flat_measure(simplex);
+    if (found == 3) return flat_hull(simplex);
     build_tetrahedron(simplex);
     std::vector<int> work;
     for (int f = 0; f < 4; ++f) work.push_back(f);
@@ -77,15 +77,16 @@ class Quickhull {
       if (!faces_[f].alive || faces_[f].outside.empty()) continue;
       add_point(f, work);
     }
-    HullMeasure m;
+    ConvexHull hull;
     for (const Face& face : faces_) {
       if (!face.alive) continue;
       const Vec3d &a = pts_[face.v[0]], &b = pts_[face.v[1]], &c = pts_[face.v[2]];
       const double area = 0.5 * bv_detail::length(bv_detail::cross(b - a, c - a));
-      m.area += area;
-      m.volume += area * (face.offset - bv_detail::dot(face.normal, interior_)) / 3.0;
+      hull.measure.area += area;
+      hull.measure.volume += area * (face.offset - bv_detail::dot(face.normal, interior_)) / 3.0;
+      hull.facets.push_back({face.normal, face.offset, area, false});
     }
-    return m;
+    return hull;
   }
 
  private:
@@ -126,13 +127,33 @@ class Quickhull {
     return best <= eps_ ? 3 : 4;
   }
 
-  HullMeasure flat_measure(const int s[3]) const {
+  /// A flat set: both sides of its plane (each with the polygon's area) and the polygon's edges, whose outward
+  /// normals lie in the plane (weighted by their length).
+  ConvexHull flat_hull(const int s[3]) const {
     const Vec3d u = bv_detail::normalize(pts_[s[1]] - pts_[s[0]]);
     const Vec3d v = bv_detail::cross(plane_normal_, u);
     std::vector<std::pair<double, double>> uv;
     uv.reserve(pts_.size());
     for (const Vec3d& p : pts_) uv.emplace_back(bv_detail::dot(p, u), bv_detail::dot(p, v));
-    return {2.0 * hull_area_2d(std::move(uv)), 0.0};
+    const auto polygon = hull_2d(std::move(uv));
+    double area2 = 0.0;
+    ConvexHull hull;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const auto& [x0, y0] = polygon[i];
+      const auto& [x1, y1] = polygon[i + 1 == polygon.size() ? 0 : i + 1];
+      area2 += x0 * y1 - x1 * y0;
+      // Counterclockwise in (u, v): the outward normal of edge (dx, dy) is (dy, -dx).
+      const Vec3d outward = u * (y1 - y0) - v * (x1 - x0);
+      const Vec3d normal = bv_detail::normalize(outward);
+      // The normal lies in the plane, so the plane's own offset does not enter the support.
+      hull.facets.push_back({normal, bv_detail::dot(normal, u * x0 + v * y0), bv_detail::length(outward), true});
+    }
+    const double area = 0.5 * std::fabs(area2);
+    hull.measure = {2.0 * area, 0.0};
+    const double height = bv_detail::dot(plane_normal_, pts_[s[0]]);
+    hull.facets.push_back({plane_normal_, height, area, false});
+    hull.facets.push_back({plane_normal_ * -1.0, -height, area, false});
+    return hull;
   }
 
   int make_face(int a, int b, int c) {
@@ -282,7 +303,9 @@ class Quickhull {
 
 }  // namespace
 
-HullMeasure convex_hull_measure(std::span<const Vec3> points) { return Quickhull(points).run(); }
+HullMeasure convex_hull_measure(std::span<const Vec3> points) { return Quickhull(points).run().measure; }
+
+ConvexHull bv_detail::convex_hull(std::span<const Vec3> points) { return Quickhull(points).run(); }
 
 void TightnessSums::add(double bv_area, std::span<const Vec3> points, bool with_hull) {
   AABB box;

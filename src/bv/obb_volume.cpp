@@ -1,6 +1,6 @@
-// OBB fitting: candidate frames from PCA (covariance eigenvectors by cyclic Jacobi rotations, Golub & Van Loan
-// section 8.5), from DiTO-26 (Larsson & Kallberg 2011: frames built from a large base triangle of extremal points and
-// the two tetrahedra on it), and the world axes; the frame whose box has the smallest surface area wins.
+// OBB fitting: candidate frames from PCA (principal_axes.h), from DiTO-26 (Larsson & Kallberg 2011: frames built
+// from a large base triangle of extremal points and the two tetrahedra on it), and the world axes; the frame whose
+// box has the smallest surface area wins.
 #include "rayaccel/bv/obb_volume.h"
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fit_support.h"
+#include "principal_axes.h"
 #include "rayaccel/core/float_rounding.h"
 
 namespace rayaccel {
@@ -60,60 +61,11 @@ double frame_area(std::span<const Point> points, const Frame& f) {
   return 2.0 * (ex * ey + ey * ez + ez * ex);
 }
 
-/// Eigenvectors of the symmetric matrix m by cyclic Jacobi rotations: axis[i] is the eigenvector of the eigenvalue
-/// left in m[i][i] (m is diagonalized in place).
-Frame jacobi_eigenvectors(double m[3][3]) {
-  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  for (int sweep = 0; sweep < 32; ++sweep) {
-    const double off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
-    const double diag = m[0][0] * m[0][0] + m[1][1] * m[1][1] + m[2][2] * m[2][2];
-    if (off <= 1e-24 * diag) break;  // off-diagonal below 1e-12 of the diagonal: converged for fitting
-    for (int p = 0; p < 2; ++p) {
-      for (int q = p + 1; q < 3; ++q) {
-        if (std::fabs(m[p][q]) <= 1e-15 * (std::fabs(m[p][p]) + std::fabs(m[q][q]))) continue;
-        // The rotation angle that zeroes m[p][q], in the stable form t = sign(theta) / (|theta| + sqrt(theta^2+1)).
-        const double theta = (m[q][q] - m[p][p]) / (2.0 * m[p][q]);
-        const double t = std::copysign(1.0, theta) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
-        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
-        for (int k = 0; k < 3; ++k) {  // m <- m * J
-          const double mkp = m[k][p], mkq = m[k][q];
-          m[k][p] = c * mkp - s * mkq;
-          m[k][q] = s * mkp + c * mkq;
-        }
-        for (int k = 0; k < 3; ++k) {  // m <- J^T * m
-          const double mpk = m[p][k], mqk = m[q][k];
-          m[p][k] = c * mpk - s * mqk;
-          m[q][k] = s * mpk + c * mqk;
-        }
-        for (int k = 0; k < 3; ++k) {  // v <- v * J
-          const double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
-      }
-    }
-  }
-  Frame f;
-  for (int i = 0; i < 3; ++i) f.axis[i] = {v[0][i], v[1][i], v[2][i]};
-  return f;
-}
-
-/// PCA frame: eigenvectors of the points' covariance, largest variance first. False when the points are all equal.
+/// PCA frame: the points' principal axes, largest variance first. False when the points are all equal.
 bool pca_frame(std::span<const Vec3> points, Frame& frame) {
-  Vec3d mean;
-  for (const Vec3& p : points) mean = mean + Vec3d(p);
-  mean = mean * (1.0 / double(points.size()));
-  double m[3][3] = {};
-  for (const Vec3& pf : points) {
-    const Vec3d d = Vec3d(pf) - mean;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) m[r][c] += d[r] * d[c];
-  }
-  if (m[0][0] + m[1][1] + m[2][2] == 0.0) return false;
-  const Frame eig = jacobi_eigenvectors(m);
-  int order[3] = {0, 1, 2};
-  std::sort(order, order + 3, [&](int a, int b) { return m[a][a] > m[b][b]; });
-  frame = make_frame(eig.axis[order[0]], eig.axis[order[1]]);
+  Vec3d axes[3];
+  if (!bv_detail::principal_axes(points, axes)) return false;
+  frame = make_frame(axes[0], axes[1]);
   return true;
 }
 

@@ -5,6 +5,8 @@
 #include <string>
 
 #include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bv/capsule_volume.h"
+#include "rayaccel/bv/hull_volume.h"
 #include "rayaccel/bv/kdop_volume.h"
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
@@ -32,6 +34,8 @@ const VolumeEntry kVolumes[] = {
     {Kdop14Volume::kName, &make_bvh<Kdop14Volume>},
     {Kdop18Volume::kName, &make_bvh<Kdop18Volume>},
     {Kdop26Volume::kName, &make_bvh<Kdop26Volume>},
+    {HullVolume::kName, &make_bvh<HullVolume>},
+    {CapsuleVolume::kName, &make_bvh<CapsuleVolume>},
 };
 
 constexpr BvhBuilder kBuilders[] = {BvhBuilder::binned, BvhBuilder::sweep, BvhBuilder::sbvh, BvhBuilder::lbvh,
@@ -66,7 +70,7 @@ std::unique_ptr<Accelerator> create(const Options& options) {
 void register_bvh(std::vector<AcceleratorInfo>& registry) {
   AcceleratorInfo info;
   info.name = "bvh";
-  info.description = "bounding volume hierarchy: AABB/sphere/OBB/k-DOP volumes; binned SAH, sweep SAH, SBVH, LBVH, PLOC";
+  info.description = "bounding volume hierarchy: AABB/sphere/OBB/k-DOP/hull/capsule volumes; binned SAH, sweep SAH, SBVH, LBVH, PLOC";
   std::vector<std::string> volumes, builders;
   for (const VolumeEntry& v : kVolumes) volumes.push_back(v.name);
   for (BvhBuilder b : kBuilders) builders.push_back(to_string(b));

@@ -7,6 +7,8 @@
 
 #include "point_clouds.h"
 #include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bv/capsule_volume.h"
+#include "rayaccel/bv/hull_volume.h"
 #include "rayaccel/bv/kdop_volume.h"
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
@@ -18,7 +20,8 @@ namespace {
 
 template <class BV>
 class BvVolume : public ::testing::Test {};
-using Volumes = ::testing::Types<AabbVolume, SphereVolume, ObbVolume, Kdop14Volume, Kdop18Volume, Kdop26Volume>;
+using Volumes = ::testing::Types<AabbVolume, SphereVolume, ObbVolume, Kdop14Volume, Kdop18Volume, Kdop26Volume,
+                                 HullVolume, CapsuleVolume>;
 TYPED_TEST_SUITE(BvVolume, Volumes);
 
 constexpr float kInf = std::numeric_limits<float>::infinity();

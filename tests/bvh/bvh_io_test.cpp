@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "bvh_test_scenes.h"
+#include "rayaccel/bv/capsule_volume.h"
+#include "rayaccel/bv/hull_volume.h"
 #include "rayaccel/bvh/bvh.h"
 
 namespace rayaccel {
@@ -124,6 +126,37 @@ TEST_P(BvhSaveLoad, BadFilesGiveErrorsNamingFileAndFault) {
 
   target.load(good, scene);  // a failed load leaves the object usable
   EXPECT_TRUE(target.validate().empty());
+}
+
+// The volumes whose nodes are not boxes: the file carries their bytes unchanged, and a loaded tree answers alike.
+template <class BV>
+void expect_round_trip(const fs::path& file) {
+  const Scene scene = bvh_test::random_soup(1000, 22);
+  Bvh<BV> built;
+  built.build(scene);
+  built.save(file);
+  Bvh<BV> loaded;
+  loaded.load(file, scene);
+  EXPECT_TRUE(loaded.validate().empty()) << BV::kName;
+  ASSERT_EQ(loaded.nodes().size(), built.nodes().size()) << BV::kName;
+  EXPECT_EQ(std::memcmp(loaded.nodes().data(), built.nodes().data(), built.nodes().size() * sizeof(built.nodes()[0])),
+            0)
+      << BV::kName;
+  for (const Ray& r : bvh_test::random_rays(scene.bounds(), 300, 4)) {
+    const Hit a = built.intersect(r), b = loaded.intersect(r);
+    EXPECT_EQ(a.prim_id, b.prim_id) << BV::kName;
+    EXPECT_EQ(a.t, b.t) << BV::kName;
+  }
+  Bvh<AabbVolume> other;
+  expect_error([&] { other.load(file, scene); }, file, std::string("'") + BV::kName + "' BVH, not 'aabb'");
+}
+
+TEST(BvhSaveLoadVolumes, HullAndCapsuleTreesRoundTrip) {
+  const fs::path dir = fs::temp_directory_path() / ("rayaccel_bvh_io_volumes_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  expect_round_trip<HullVolume>(dir / "hull.bvh");
+  expect_round_trip<CapsuleVolume>(dir / "capsule.bvh");
+  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllBuilders, BvhSaveLoad,

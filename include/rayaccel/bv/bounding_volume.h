@@ -1,6 +1,6 @@
-// The BoundingVolume concept every BVH node volume satisfies (AABB, sphere, OBB, k-DOP): fitted to the hull
-// points of a node's primitives, tested against a ray conservatively (never misses a ray that hits the contents),
-// and measured by surface area for SAH and tightness reports.
+// The BoundingVolume concept every BVH node volume satisfies (AABB, sphere, OBB, k-DOP, capped hull, capsule):
+// fitted to the hull points of a node's primitives, tested against a ray conservatively (never misses a ray that
+// hits the contents), and measured by surface area for SAH and tightness reports.
 #pragma once
 
 #include <concepts>
@@ -25,7 +25,7 @@ concept BoundingVolume = requires(const BV bv, std::span<const Vec3> points, con
   { bv.bounds() } -> std::same_as<AABB>;
   /// True when the point lies inside (within rounding) — used by validate().
   { bv.contains(ray.origin) } -> std::same_as<bool>;
-  /// Short name used in registry specs: "aabb", "sphere", "obb", "kdop14", "kdop18", "kdop26".
+  /// Short name used in registry specs: "aabb", "sphere", "obb", "kdop14", "kdop18", "kdop26", "hull", "capsule".
   { BV::kName } -> std::convertible_to<const char*>;
 };
 
