@@ -97,7 +97,7 @@ Scene diagonal_slivers(std::uint32_t n) {
 TEST(BvhSbvh, SplitsReferencesWithinTheGrowthBound) {
   const Scene scene = diagonal_slivers(400);
   for (float growth : {1.0f, 1.3f, 2.0f}) {
-    BvhConfig config;
+    BvhOptions config;
     config.builder = BvhBuilder::sbvh;
     config.max_growth = growth;
     Bvh<AabbVolume> bvh(config);
@@ -119,7 +119,7 @@ TEST(BvhSbvh, SplitsReferencesWithinTheGrowthBound) {
 TEST(BvhSbvh, SpatialSplitsLowerTheSahCost) {
   const Scene scene = diagonal_slivers(400);
   auto sah = [&](BvhBuilder b) {
-    BvhConfig config;
+    BvhOptions config;
     config.builder = b;
     Bvh<AabbVolume> bvh(config);
     bvh.build(scene);
