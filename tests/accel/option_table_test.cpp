@@ -195,8 +195,16 @@ TEST(OptionTable, DirectlyConstructedStructuresRunTheSameChecks) {
   throws_naming("grid: density=0", [] { UniformGrid(UniformGridOptions{.density = 0.0}); });
   throws_naming("grid2: max_leaf_resolution=300",
                 [] { TwoLevelGrid(TwoLevelGridOptions{.max_leaf_resolution = 300}); });
-  throws_naming("octree: max_prims=0", [] { Octree(OctreeOptions{.max_prims = 0}); });
-  throws_naming("bvh: bins=1", [] { Bvh<AabbVolume>(BvhOptions{.bin_count = 1}); });
+  throws_naming("octree: max_prims=0", [] {
+    OctreeOptions o;
+    o.max_prims = 0;
+    Octree{o};
+  });
+  throws_naming("bvh: bins=1", [] {
+    BvhOptions o;
+    o.bin_count = 1;
+    Bvh<AabbVolume>{o};
+  });
   throws_naming("bvh_wide: presplit=5", [] { wide::WideBvh(wide::WideBvhOptions{.presplit = 5.0f}); });
   throws_naming("not width=4", [] { wide::WideBvh(wide::WideBvhOptions{.width = 4, .isa = wide::WideIsa::avx2}); });
   throws_naming("bvh_wide: width=", [] { wide::WideBvh(wide::WideBvhOptions{.width = 6}); });
