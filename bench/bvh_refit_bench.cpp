@@ -42,7 +42,7 @@ struct WaveGrid {
 
 void bvh_refit(benchmark::State& state, BvhBuilder builder) {
   WaveGrid grid(256);
-  BvhConfig config;
+  BvhOptions config;
   config.builder = builder;
   Bvh<AabbVolume> bvh(config);
   bvh.build(grid.scene);
@@ -57,7 +57,7 @@ void bvh_refit(benchmark::State& state, BvhBuilder builder) {
 
 void bvh_rebuild(benchmark::State& state, BvhBuilder builder) {
   WaveGrid grid(256);
-  BvhConfig config;
+  BvhOptions config;
   config.builder = builder;
   Bvh<AabbVolume> bvh(config);
   int f = 0;

@@ -318,13 +318,11 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
 
   // Embree answers every reference query when it is built in; the measured row is only added with --compare.
   std::unique_ptr<Accelerator> embree;
-#ifdef RAYACCEL_HAVE_EMBREE
-  if (scene.kind() == PrimitiveKind::triangles) {
+  if (has_accelerator("embree") && scene.kind() == PrimitiveKind::triangles) {
     progress.stage(fmt::format("{}: building the embree reference", scene.name()));
     embree = make_structure("embree", threads);
     embree->build(scene);
   }
-#endif
   const bool compare_embree = args.compare == "embree";
   if (compare_embree && !embree) {
     std::cerr << fmt::format("warning: no embree row for {}: embree comparison supports triangle scenes only\n",
@@ -384,7 +382,7 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
   const std::size_t count = specs.size() + (embree_row ? 2 : 0);
   if (embree_row) report.rows.push_back(measure(ctx, "embree", true, 1, count));
   for (const auto& spec : specs) {
-    report.rows.push_back(measure(ctx, spec, is_embree_spec(spec), report.rows.size() + 1, count));
+    report.rows.push_back(measure(ctx, spec, is_comparison_spec(spec), report.rows.size() + 1, count));
   }
   if (embree_row) pool_measurements(report.rows.front(), measure(ctx, "embree", true, count, count));
   progress.done();
@@ -405,9 +403,9 @@ int run_bench(BenchArgs args, bool threads_given, bool heat_max_given) {
   if (!args.compare.empty() && args.compare != "embree") {
     throw UsageError("--compare: '" + args.compare + "' is not supported (only 'embree')");
   }
-#ifndef RAYACCEL_HAVE_EMBREE
-  if (!args.compare.empty()) throw UsageError("--compare embree: this build has no Embree (install libembree-dev)");
-#endif
+  if (!args.compare.empty() && !has_accelerator("embree")) {
+    throw UsageError("--compare embree: this build has no Embree (install libembree-dev)");
+  }
   for (const auto& scene : args.scenes) {
     std::error_code ec;
     if (scene.rfind("builtin:", 0) != 0 && !std::filesystem::is_regular_file(scene, ec)) {

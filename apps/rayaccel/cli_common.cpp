@@ -4,14 +4,14 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <utility>
 
 #include "rayaccel/accel/registry.h"
-#include "rayaccel/compare/embree_accelerator.h"
+#include "rayaccel/core/number_text.h"
 #include "rayaccel/scene/import.h"
 
 namespace rayaccel::cli {
@@ -21,21 +21,17 @@ namespace {
 bool parse_float(std::string_view text, float& out) {
   while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
   while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
-  if (text.empty()) return false;
-  const std::string s(text);
-  std::size_t used = 0;
-  try {
-    out = std::stof(s, &used);
-  } catch (const std::exception&) {
-    return false;
-  }
-  return used == s.size() && std::isfinite(out);
+  const auto v = parse_real(text);
+  if (!v || !std::isfinite(static_cast<float>(*v))) return false;
+  out = static_cast<float>(*v);
+  return true;
 }
 
 bool parse_int(std::string_view text, int& out) {
-  const char* end = text.data() + text.size();
-  auto [ptr, ec] = std::from_chars(text.data(), end, out);
-  return ec == std::errc() && ptr == end && !text.empty();
+  const auto v = parse_integer(text);
+  if (!v || !std::in_range<int>(*v)) return false;
+  out = static_cast<int>(*v);
+  return true;
 }
 
 }  // namespace
@@ -173,63 +169,24 @@ Camera default_camera(std::string_view spec, const Scene& scene) {
   return Camera::framing(box);
 }
 
-bool is_embree_spec(std::string_view spec) { return spec == "embree" || spec.starts_with("embree:"); }
-
-#ifdef RAYACCEL_HAVE_EMBREE
-namespace {
-
-/// "embree" or "embree:quality=low|medium|high,robust=0|1": Embree's build quality and RTC_SCENE_FLAG_ROBUST.
-EmbreeOptions parse_embree_spec(std::string_view spec) {
-  EmbreeOptions options;
-  if (spec == "embree") return options;
-  for (const std::string& item : split_list(spec.substr(std::string_view("embree:").size()))) {
-    const std::size_t eq = item.find('=');
-    const std::string key = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
-    if (key == "quality" && (value == "low" || value == "medium" || value == "high")) {
-      options.quality = value == "low"      ? EmbreeBuildQuality::low
-                        : value == "medium" ? EmbreeBuildQuality::medium
-                                            : EmbreeBuildQuality::high;
-    } else if (key == "robust" && (value == "0" || value == "1" || value == "true" || value == "false")) {
-      options.robust = value == "1" || value == "true";
-    } else {
-      throw UsageError("--accel: '" + item + "' in '" + std::string(spec) +
-                       "' is not an Embree option (known: quality=low|medium|high, robust=0|1)");
-    }
+bool is_comparison_spec(std::string_view spec) {
+  try {
+    return find_accelerator(parse_accelerator_spec(spec).name).comparison;
+  } catch (const Error&) {
+    return false;
   }
-  return options;
 }
 
-}  // namespace
-#endif
-
 void check_accelerator_spec(std::string_view spec) {
-#ifdef RAYACCEL_HAVE_EMBREE
-  if (is_embree_spec(spec)) {
-    parse_embree_spec(spec);
-    return;
-  }
-#endif
   try {
     make_accelerator(spec);  // parses, resolves options and runs the structure's own checks; builds nothing
-  } catch (const UsageError&) {
-    throw;
   } catch (const Error& e) {
     throw UsageError(std::string("--accel: ") + e.what());
   }
 }
 
 std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads) {
-#ifdef RAYACCEL_HAVE_EMBREE
-  if (is_embree_spec(spec)) {
-    EmbreeOptions options = parse_embree_spec(spec);
-    options.threads = threads;
-    auto embree = std::make_unique<EmbreeAccelerator>(options);
-    embree->set_spec(std::string(spec));
-    return embree;
-  }
-#endif
-  (void)threads;
-  return make_accelerator(spec);
+  return make_accelerator(spec, {{"threads", std::to_string(threads)}});
 }
 
 std::string default_accelerator_spec() {

@@ -97,11 +97,13 @@ Scene load_scene_checked(std::string_view spec);
 /// The MANIFEST camera of a shared scene file, else a camera framing the scene's bounds.
 Camera default_camera(std::string_view spec, const Scene& scene);
 
-/// "embree" or "embree:quality=low|medium|high,robust=0|1" (Embree's rows; accepted only when it is compiled in).
-bool is_embree_spec(std::string_view spec);
-/// Checks an accelerator spec (Embree's included when compiled in) without building; throws UsageError naming it.
+/// A spec of a comparison entry of the registry (another library: "embree", "embree:quality=high,robust=1", where
+/// Embree was found at build time); false for rayaccel's structures and for specs naming nothing registered.
+bool is_comparison_spec(std::string_view spec);
+/// Checks an accelerator spec without building; throws UsageError naming it.
 void check_accelerator_spec(std::string_view spec);
-/// Creates an accelerator from a spec; "embree" gives the Embree comparison wrapper with `threads` workers.
+/// Creates an accelerator from a spec; a structure with worker threads of its own (Embree) gets `threads` of them
+/// unless the spec sets its `threads` option.
 std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads);
 /// The structure used when --accel is not given.
 std::string default_accelerator_spec();

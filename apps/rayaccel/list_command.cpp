@@ -19,34 +19,45 @@ std::string joined(const std::vector<std::string>& items, const char* separator)
   return out;
 }
 
+void print_entry(const AcceleratorInfo& info, std::size_t name_width) {
+  fmt::print("\n  {:<{}}  {}\n", info.name, name_width, info.description);
+  if (info.options.empty()) {
+    fmt::print("      (no options)\n");
+  } else {
+    std::size_t key_width = 0;
+    for (const auto& option : info.options) key_width = std::max(key_width, option.key.size());
+    for (const auto& option : info.options) {
+      std::string detail = fmt::format("{:<7}  default {}", to_string(option.type), option.default_value);
+      if (!option.choices.empty()) detail += "  choices: " + joined(option.choices, "|");
+      if (!option.range.empty()) detail += "  range " + option.range;
+      fmt::print("      {:<{}}  {}  {}\n", option.key, key_width, detail, option.description);
+    }
+  }
+  if (!info.variants.empty()) fmt::print("      variants: {}\n", joined(info.variants, "  "));
+}
+
 void print_structures() {
   const auto& registry = accelerator_registry();
-  std::size_t name_width = 0;
-  for (const auto& info : registry) name_width = std::max(name_width, info.name.size());
-  fmt::print("Structures ({}):\n", registry.size());
+  std::size_t name_width = 0, structure_count = 0;
   for (const auto& info : registry) {
-    fmt::print("\n  {:<{}}  {}\n", info.name, name_width, info.description);
-    if (info.options.empty()) {
-      fmt::print("      (no options)\n");
-    } else {
-      std::size_t key_width = 0;
-      for (const auto& option : info.options) key_width = std::max(key_width, option.key.size());
-      for (const auto& option : info.options) {
-        std::string detail = fmt::format("{:<7}  default {}", to_string(option.type), option.default_value);
-        if (!option.choices.empty()) detail += "  choices: " + joined(option.choices, "|");
-        fmt::print("      {:<{}}  {}  {}\n", option.key, key_width, detail, option.description);
-      }
-    }
-    if (!info.variants.empty()) fmt::print("      variants: {}\n", joined(info.variants, "  "));
+    name_width = std::max(name_width, info.name.size());
+    structure_count += info.comparison ? 0 : 1;
+  }
+  fmt::print("Structures ({}):\n", structure_count);
+  for (const auto& info : registry) {
+    if (!info.comparison) print_entry(info, name_width);
   }
   fmt::print("\nSpec syntax: NAME or NAME:key=value,key=value (e.g. --accel '{}')\n",
              accelerator_variant_names().back());
-#ifdef RAYACCEL_HAVE_EMBREE
-  fmt::print("Comparison: 'bench --compare embree' and '--accel embree' use Embree 3 (found at build time); "
-             "'--accel embree:quality=high,robust=1' adds rows for its other build qualities and its robust mode\n");
-#else
-  fmt::print("Comparison: Embree was not found at build time; 'bench --compare embree' is unavailable\n");
-#endif
+  if (structure_count == registry.size()) {
+    fmt::print("Comparison: Embree was not found at build time; 'bench --compare embree' is unavailable\n");
+  } else {
+    fmt::print("\nComparison (other libraries: 'bench --compare embree', '--accel embree:quality=high,robust=1'; not "
+               "in --names):\n");
+    for (const auto& info : registry) {
+      if (info.comparison) print_entry(info, name_width);
+    }
+  }
   fmt::print("\nBuilt-in scenes (builtin:NAME[:key=value,...]):\n");
   for (const auto& scene : builtin_scenes()) {
     std::vector<std::string> params;

@@ -257,7 +257,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     if (!generalized::supports_generalized_rays(*accel)) {
       throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh, bvh_wide or kdtree)");
     }
-    settings.beams = generalized::BeamConfig{.tile_size = args.beam_tile, .entry_points = !args.beam_root};
+    settings.beams = generalized::BeamOptions{.tile_size = args.beam_tile, .entry_points = !args.beam_root};
   }
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };

@@ -76,7 +76,7 @@ def builtin_scenes():
 
 def structures():
     """Every registered structure: dicts with name, description, options (key, type, default, description,
-    choices) and variants (the specs `rayaccel list --names` prints for it)."""
+    choices, range: the allowed interval of a number, else "") and variants (the specs `rayaccel list --names` prints for it)."""
     return _core._structures()
 
 

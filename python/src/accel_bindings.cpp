@@ -207,11 +207,12 @@ class PyAccelerator {
 py::list structures() {
   py::list out;
   for (const auto& info : accelerator_registry()) {
+    if (info.comparison) continue;  // another library (Embree): buildable by spec, not one of rayaccel's structures
     py::list options;
     for (const auto& o : info.options) {
       options.append(py::dict(py::arg("key") = o.key, py::arg("type") = to_string(o.type),
                               py::arg("default") = o.default_value, py::arg("description") = o.description,
-                              py::arg("choices") = o.choices));
+                              py::arg("choices") = o.choices, py::arg("range") = o.range));
     }
     const std::vector<std::string> variants = info.variants.empty() ? std::vector{info.name} : info.variants;
     out.append(py::dict(py::arg("name") = info.name, py::arg("description") = info.description,

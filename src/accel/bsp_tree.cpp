@@ -8,6 +8,7 @@
 #include <chrono>
 #include <string>
 
+#include "rayaccel/accel/split_tree_options.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/clip_polygon.h"
 
@@ -132,48 +133,27 @@ std::vector<std::string> BspTree::validate() const {
   return report.problems;
 }
 
-namespace {
-
-BspTreeOptions parse_options(const Options& o) {
-  BspTreeOptions b;
-  const long long depth = o.get_int("max_depth");
-  if (depth < 0 || depth > kMaxSplitTreeDepth) {
-    throw Error("bsp: max_depth=" + o.get("max_depth") + " is outside [0, " + std::to_string(kMaxSplitTreeDepth) + "]");
-  }
-  b.max_depth = static_cast<int>(depth);
-  const long long leaf = o.get_int("leaf_size");
-  if (leaf < 1 || leaf > 1 << 20) throw Error("bsp: leaf_size=" + o.get("leaf_size") + " is outside [1, 2^20]");
-  b.leaf_size = static_cast<int>(leaf);
-  const long long exact = o.get_int("exact_threshold");
-  if (exact < 0 || exact > 1 << 16) {
-    throw Error("bsp: exact_threshold=" + o.get("exact_threshold") + " is outside [0, 65536]");
-  }
-  b.exact_threshold = static_cast<int>(exact);
-  b.traversal_cost = static_cast<float>(o.get_real("traversal_cost"));
-  b.intersection_cost = static_cast<float>(o.get_real("intersection_cost"));
-  if (!(b.traversal_cost > 0.0f)) throw Error("bsp: traversal_cost=" + o.get("traversal_cost") + " must be > 0");
-  if (!(b.intersection_cost > 0.0f)) {
-    throw Error("bsp: intersection_cost=" + o.get("intersection_cost") + " must be > 0");
-  }
-  b.own_planes = o.get_bool("own_planes");
-  return b;
+const OptionTable<BspTreeOptions>& bsp_tree_option_table() {
+  using O = BspTreeOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("bsp");
+    add_split_tree_options(t, "largest node made a leaf without trying splits", "SAH cost of one traversal step",
+                           "SAH cost of one primitive test");
+    t.integer("exact_threshold", &O::exact_threshold, 0, 1 << 16,
+              "nodes with more references use 16 bins per direction and 8 sampled own planes");
+    t.boolean("own_planes", &O::own_planes, "also try the triangles' own supporting planes");
+    return t;
+  }();
+  return table;
 }
 
-}  // namespace
+BspTree::BspTree(BspTreeOptions options) : options_(options) { bsp_tree_option_table().check(options_); }
 
 void register_bsp_tree(std::vector<AcceleratorInfo>& registry) {
-  registry.push_back(
-      {"bsp",
-       "general BSP tree: arbitrary planes (own planes + 13 k-DOP directions), SAH over polytope cells (Ize 2008)",
-       {{"max_depth", OptionType::integer, "0", "deepest leaf; 0 = round(8 + 1.3 log2 n)", {}},
-        {"leaf_size", OptionType::integer, "1", "largest node made a leaf without trying splits", {}},
-        {"traversal_cost", OptionType::real, "15", "SAH cost of one traversal step", {}},
-        {"intersection_cost", OptionType::real, "20", "SAH cost of one primitive test", {}},
-        {"exact_threshold", OptionType::integer, "12",
-         "nodes with more references use 16 bins per direction and 8 sampled own planes", {}},
-        {"own_planes", OptionType::boolean, "true", "also try the triangles' own supporting planes", {}}},
-       {},
-       [](const Options& o) { return std::make_unique<BspTree>(parse_options(o)); }});
+  registry.push_back(registry_entry<BspTree>(
+      bsp_tree_option_table(),
+      "general BSP tree: arbitrary planes (own planes + 13 k-DOP directions), SAH over polytope cells (Ize 2008)",
+      {}));
 }
 
 }  // namespace rayaccel

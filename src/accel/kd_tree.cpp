@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "rayaccel/accel/split_tree_options.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/clip_polygon.h"
 
@@ -96,7 +97,7 @@ void KdTree::build_blocks(const Scene& scene) {
   }
   block_first_.back() = static_cast<std::uint32_t>(blocks_.size());
   blocks_.shrink_to_fit();
-  isa_ = simd::best_isa(simd::Isa::avx2);
+  isa_ = simd::best_isa(kMaxIsa);
 }
 
 std::vector<BuildStatistic> KdTree::build_statistics() const {
@@ -199,63 +200,38 @@ void KdTree::validate_blocks(ProblemList& report) const {
     std::size_t k = 0;
     bool ok = last - first == (expected.size() + 3) / 4;
     simd::for_each_block_id(blocks_.data() + first, last - first, [&](const simd::Triangle4& b, int lane) {
-      if (!ok) return;
-      const std::uint32_t id = b.prim_id[lane];
-      if (k >= expected.size() || expected[k++] != id) { ok = false; return; }
-      ok = simd::block_lane_matches_scene(b, lane, *scene_);
+      ok = ok && k < expected.size() && expected[k++] == b.prim_id[lane];
     });
-    if (!ok || k != expected.size()) report("node " + std::to_string(i) + ": Triangle4 blocks differ from the leaf");
+    ok = ok && k == expected.size() && !simd::first_stale_lane({blocks_.data() + first, last - first}, *scene_);
+    if (!ok) report("node " + std::to_string(i) + ": Triangle4 blocks differ from the leaf");
   }
 }
 
-namespace {
-
-KdTreeOptions parse_options(const Options& o) {
-  KdTreeOptions k;
-  k.builder = o.get("builder") == "median" ? KdTreeOptions::Builder::median : KdTreeOptions::Builder::sah;
-  const long long depth = o.get_int("max_depth");
-  if (depth < 0 || depth > kKdMaxDepth) {
-    throw Error("kdtree: max_depth=" + o.get("max_depth") + " is outside [0, " + std::to_string(kKdMaxDepth) + "]");
-  }
-  k.max_depth = static_cast<int>(depth);
-  const long long leaf = o.get_int("leaf_size");
-  if (leaf < 1 || leaf > 1 << 20) throw Error("kdtree: leaf_size=" + o.get("leaf_size") + " is outside [1, 2^20]");
-  k.leaf_size = static_cast<int>(leaf);
-  k.traversal_cost = static_cast<float>(o.get_real("traversal_cost"));
-  k.intersection_cost = static_cast<float>(o.get_real("intersection_cost"));
-  if (!(k.traversal_cost > 0.0f)) throw Error("kdtree: traversal_cost=" + o.get("traversal_cost") + " must be > 0");
-  if (!(k.intersection_cost > 0.0f)) {
-    throw Error("kdtree: intersection_cost=" + o.get("intersection_cost") + " must be > 0");
-  }
-  k.empty_bonus = static_cast<float>(o.get_real("empty_bonus"));
-  if (!(k.empty_bonus >= 0.0f && k.empty_bonus < 1.0f)) {
-    throw Error("kdtree: empty_bonus=" + o.get("empty_bonus") + " is outside [0, 1)");
-  }
-  k.mailbox = o.get_bool("mailbox");
-  const long long block = o.get_int("block_size");
-  if (block < 1 || block > 64) throw Error("kdtree: block_size=" + o.get("block_size") + " is outside [1, 64]");
-  k.block_size = static_cast<int>(block);
-  return k;
+const OptionTable<KdTreeOptions>& kd_tree_option_table() {
+  using O = KdTreeOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("kdtree");
+    t.choice("builder", &O::builder, {{"median", O::Builder::median}, {"sah", O::Builder::sah}},
+             "median: median centroid, axes cycling; sah: Wald & Havran sweep");
+    add_split_tree_options(t, "median builder: largest node made a leaf", "SAH cost of one traversal step (K_T)",
+                           "SAH cost of one primitive test or Triangle4 block (K_I)");
+    t.real("empty_bonus", &O::empty_bonus, {0.0, 1.0, false, true},
+           "SAH: cost fraction saved by cutting off an empty cell");
+    t.integer("block_size", &O::block_size, 1, 64,
+              "SAH: K_I per started block of this many triangles (leaves are Triangle4 blocks); 1 = per triangle");
+    t.boolean("mailbox", &O::mailbox, "skip primitives the ray already tested (8-entry mailbox)");
+    return t;
+  }();
+  return table;
 }
 
-}  // namespace
+KdTree::KdTree(KdTreeOptions options) : options_(options) { kd_tree_option_table().check(options_); }
 
 void register_kd_tree(std::vector<AcceleratorInfo>& registry) {
-  registry.push_back(
-      {"kdtree",
-       "kd-tree: median or O(N log N) SAH build with perfect splits (Wald & Havran 2006), 8-byte nodes",
-       {{"builder", OptionType::choice, "sah", "median: median centroid, axes cycling; sah: Wald & Havran sweep",
-         {"median", "sah"}},
-        {"max_depth", OptionType::integer, "0", "deepest leaf; 0 = round(8 + 1.3 log2 n)", {}},
-        {"leaf_size", OptionType::integer, "2", "median builder: largest node made a leaf", {}},
-        {"traversal_cost", OptionType::real, "15", "SAH cost of one traversal step (K_T)", {}},
-        {"intersection_cost", OptionType::real, "3", "SAH cost of one primitive test or Triangle4 block (K_I)", {}},
-        {"empty_bonus", OptionType::real, "0.2", "SAH: cost fraction saved by cutting off an empty cell", {}},
-        {"block_size", OptionType::integer, "4",
-         "SAH: K_I per started block of this many triangles (leaves are Triangle4 blocks); 1 = per triangle", {}},
-        {"mailbox", OptionType::boolean, "false", "skip primitives the ray already tested (8-entry mailbox)", {}}},
-       {"kdtree:builder=median", "kdtree:builder=sah", "kdtree:builder=sah,mailbox=true"},
-       [](const Options& o) { return std::make_unique<KdTree>(parse_options(o)); }});
+  registry.push_back(registry_entry<KdTree>(
+      kd_tree_option_table(),
+      "kd-tree: median or O(N log N) SAH build with perfect splits (Wald & Havran 2006), 8-byte nodes",
+      {"kdtree:builder=median", "kdtree:builder=sah", "kdtree:builder=sah,mailbox=true"}));
 }
 
 }  // namespace rayaccel

@@ -22,19 +22,26 @@ std::string box_text(const AABB& b) {
 
 }  // namespace
 
-Octree::Octree(OctreeOptions options) : options_(std::move(options)) {
-  if (options_.max_depth < 1 || options_.max_depth > kMaxDepth) {
-    throw Error("octree: max_depth must be in [1, " + std::to_string(kMaxDepth) + "], got " +
-                std::to_string(options_.max_depth));
-  }
-  if (options_.max_prims < 1) throw Error("octree: max_prims must be at least 1, got " + std::to_string(options_.max_prims));
-  if (!(options_.pad >= 0.0) || !std::isfinite(options_.pad)) {
-    throw Error("octree: pad must be a finite number >= 0, got " + std::to_string(options_.pad));
-  }
-  if (options_.root_bounds && (options_.root_bounds->is_empty() || !options_.root_bounds->is_finite())) {
-    throw Error("octree: root_bounds must be a finite, non-empty box");
-  }
+const OptionTable<OctreeOptions>& octree_option_table() {
+  using O = OctreeOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("octree");
+    t.integer("max_depth", &O::max_depth, 1, Octree::kMaxDepth, "levels below the root at most");
+    t.integer("max_prims", &O::max_prims, 1, 1 << 20, "primitives per leaf before it splits");
+    t.boolean("exact", &O::exact, "triangles: reference only leaves the triangle overlaps (SAT)");
+    t.boolean("mailbox", &O::mailbox, "test a primitive spanning leaves once per ray");
+    t.real("pad", &O::pad, RealRange::at_least(0.0), "grow the root box by pad * extent per side (room for insertions)");
+    t.rule([](const O& o) {
+      if (o.root_bounds && (o.root_bounds->is_empty() || !o.root_bounds->is_finite())) {
+        throw Error("octree: root_bounds must be a finite, non-empty box");
+      }
+    });
+    return t;
+  }();
+  return table;
 }
+
+Octree::Octree(OctreeOptions options) : options_(std::move(options)) { octree_option_table().check(options_); }
 
 bool Octree::overlaps(std::uint32_t id, const AABB& box) const {
   return primitive_overlaps_cell(*scene_, id, box, pad_, exact_used_);
@@ -319,31 +326,10 @@ std::vector<std::string> Octree::validate() const {
 }
 
 void register_octree(std::vector<AcceleratorInfo>& registry) {
-  const OctreeOptions d;
-  registry.push_back(
-      {"octree",
-       "octree with parametric front-to-back traversal (Revelles et al. 2000), insert / remove after build",
-       {{"max_depth", OptionType::integer, std::to_string(d.max_depth), "levels below the root at most (1..20)", {}},
-        {"max_prims", OptionType::integer, std::to_string(d.max_prims), "primitives per leaf before it splits", {}},
-        {"exact", OptionType::boolean, "true", "triangles: reference only leaves the triangle overlaps (SAT)", {}},
-        {"mailbox", OptionType::boolean, "true", "test a primitive spanning leaves once per ray", {}},
-        {"pad", OptionType::real, "0", "grow the root box by pad * extent per side (room for insertions)", {}}},
-       {"octree", "octree:exact=false", "octree:max_prims=2,max_depth=6"},
-       [](const Options& o) {
-         OctreeOptions opt;
-         const long long depth = o.get_int("max_depth"), prims = o.get_int("max_prims");
-         if (depth < 1 || depth > Octree::kMaxDepth) {
-           throw Error("octree: max_depth must be in [1, " + std::to_string(Octree::kMaxDepth) + "], got " +
-                       std::to_string(depth));
-         }
-         if (prims < 1 || prims > (1 << 20)) throw Error("octree: max_prims must be in [1, 2^20], got " + std::to_string(prims));
-         opt.max_depth = int(depth);
-         opt.max_prims = int(prims);
-         opt.exact = o.get_bool("exact");
-         opt.mailbox = o.get_bool("mailbox");
-         opt.pad = o.get_real("pad");
-         return std::make_unique<Octree>(opt);
-       }});
+  registry.push_back(registry_entry<Octree>(
+      octree_option_table(),
+      "octree with parametric front-to-back traversal (Revelles et al. 2000), insert / remove after build",
+      {"octree", "octree:exact=false", "octree:max_prims=2,max_depth=6"}));
 }
 
 }  // namespace rayaccel

@@ -1,11 +1,10 @@
 // Registry lookup, spec parsing and option validation.
 #include "rayaccel/accel/registry.h"
 
-#include <charconv>
-#include <cmath>
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/number_text.h"
 
 namespace rayaccel {
 
@@ -23,29 +22,6 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-bool parse_bool(const std::string& v, bool& out) {
-  if (v == "1" || v == "true" || v == "on" || v == "yes") { out = true; return true; }
-  if (v == "0" || v == "false" || v == "off" || v == "no") { out = false; return true; }
-  return false;
-}
-
-bool parse_integer(const std::string& v, long long& out) {
-  const char* end = v.data() + v.size();
-  auto [ptr, ec] = std::from_chars(v.data(), end, out);
-  return ec == std::errc() && ptr == end && !v.empty();
-}
-
-bool parse_real(const std::string& v, double& out) {
-  if (v.empty()) return false;
-  std::size_t used = 0;
-  try {
-    out = std::stod(v, &used);
-  } catch (const std::exception&) {
-    return false;
-  }
-  return used == v.size() && std::isfinite(out);
-}
-
 }  // namespace
 
 const char* to_string(OptionType type) {
@@ -58,28 +34,28 @@ const char* to_string(OptionType type) {
   return "?";
 }
 
-const std::string& Options::get(const std::string& key) const {
+const std::string& OptionValues::get(const std::string& key) const {
   auto it = values_.find(key);
   if (it == values_.end()) throw Error("option '" + key + "' is not defined for this structure");
   return it->second;
 }
 
-long long Options::get_int(const std::string& key) const {
-  long long v = 0;
-  if (!parse_integer(get(key), v)) throw Error("option '" + key + "': '" + get(key) + "' is not an integer");
-  return v;
+long long OptionValues::get_int(const std::string& key) const {
+  const auto v = parse_integer(get(key));
+  if (!v) throw Error("option '" + key + "': '" + get(key) + "' is not an integer");
+  return *v;
 }
 
-double Options::get_real(const std::string& key) const {
-  double v = 0;
-  if (!parse_real(get(key), v)) throw Error("option '" + key + "': '" + get(key) + "' is not a number");
-  return v;
+double OptionValues::get_real(const std::string& key) const {
+  const auto v = parse_real(get(key));
+  if (!v) throw Error("option '" + key + "': '" + get(key) + "' is not a number");
+  return *v;
 }
 
-bool Options::get_bool(const std::string& key) const {
-  bool v = false;
-  if (!parse_bool(get(key), v)) throw Error("option '" + key + "': '" + get(key) + "' is not a boolean");
-  return v;
+bool OptionValues::get_bool(const std::string& key) const {
+  const auto v = parse_bool(get(key));
+  if (!v) throw Error("option '" + key + "': '" + get(key) + "' is not a boolean");
+  return *v;
 }
 
 const std::vector<AcceleratorInfo>& accelerator_registry() {
@@ -100,9 +76,17 @@ const AcceleratorInfo& find_accelerator(std::string_view name) {
   throw Error("unknown accelerator '" + std::string(name) + "'; known: " + join(names));
 }
 
+bool has_accelerator(std::string_view name) {
+  for (const auto& info : accelerator_registry()) {
+    if (info.name == name) return true;
+  }
+  return false;
+}
+
 std::vector<std::string> accelerator_variant_names() {
   std::vector<std::string> out;
   for (const auto& info : accelerator_registry()) {
+    if (info.comparison) continue;
     if (info.variants.empty()) {
       out.push_back(info.name);
     } else {
@@ -139,7 +123,7 @@ AcceleratorSpec parse_accelerator_spec(std::string_view spec) {
   return out;
 }
 
-Options resolve_options(const AcceleratorInfo& info, const std::map<std::string, std::string>& given) {
+OptionValues resolve_options(const AcceleratorInfo& info, const std::map<std::string, std::string>& given) {
   std::map<std::string, std::string> values;
   std::vector<std::string> known;
   for (const auto& opt : info.options) {
@@ -165,20 +149,17 @@ Options resolve_options(const AcceleratorInfo& info, const std::map<std::string,
         break;
       }
       case OptionType::integer: {
-        long long v;
-        ok = parse_integer(value, v);
+        ok = parse_integer(value).has_value();
         expected = "an integer";
         break;
       }
       case OptionType::real: {
-        double v;
-        ok = parse_real(value, v);
+        ok = parse_real(value).has_value();
         expected = "a finite number";
         break;
       }
       case OptionType::boolean: {
-        bool v;
-        ok = parse_bool(value, v);
+        ok = parse_bool(value).has_value();
         expected = "true or false";
         break;
       }
@@ -188,13 +169,21 @@ Options resolve_options(const AcceleratorInfo& info, const std::map<std::string,
     }
     values[key] = value;
   }
-  return Options(std::move(values));
+  return OptionValues(std::move(values));
 }
 
-std::unique_ptr<Accelerator> make_accelerator(std::string_view spec_text) {
-  const AcceleratorSpec spec = parse_accelerator_spec(spec_text);
+std::unique_ptr<Accelerator> make_accelerator(std::string_view spec_text) { return make_accelerator(spec_text, {}); }
+
+std::unique_ptr<Accelerator> make_accelerator(std::string_view spec_text,
+                                              const std::map<std::string, std::string>& fallback) {
+  AcceleratorSpec spec = parse_accelerator_spec(spec_text);
   const AcceleratorInfo& info = find_accelerator(spec.name);
-  const Options options = resolve_options(info, spec.options);
+  for (const auto& [key, value] : fallback) {
+    for (const auto& option : info.options) {
+      if (option.key == key) spec.options.try_emplace(key, value);
+    }
+  }
+  const OptionValues options = resolve_options(info, spec.options);
   auto accel = info.create(options);
   accel->set_spec(std::string(trim(spec_text)));
   return accel;

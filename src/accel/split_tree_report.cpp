@@ -22,9 +22,7 @@ void report_unreached(const std::vector<std::uint8_t>& reached_nodes, const std:
       break;
     }
   }
-  for (std::uint32_t id = 0; id < referenced.size(); ++id) {
-    if (scene.is_valid(id) && !referenced[id]) report("primitive " + std::to_string(id) + " is in no leaf");
-  }
+  report_unreferenced(scene, referenced, "leaf", report.problems);
 }
 
 }  // namespace rayaccel

@@ -16,29 +16,30 @@ namespace rayaccel {
 
 namespace {
 
-void check_options(const TwoLevelGridOptions& o) {
-  if (!(o.top_density > 0.0) || !std::isfinite(o.top_density)) {
-    throw Error("grid2: top_density must be a positive number, got " + std::to_string(o.top_density));
-  }
-  if (!(o.leaf_density > 0.0) || !std::isfinite(o.leaf_density)) {
-    throw Error("grid2: leaf_density must be a positive number, got " + std::to_string(o.leaf_density));
-  }
-  if (o.max_resolution < 1 || o.max_resolution > 65536) {
-    throw Error("grid2: max_resolution must be in [1, 65536], got " + std::to_string(o.max_resolution));
-  }
-  if (o.max_cells < 1 || o.max_cells > (1ull << 31)) {
-    throw Error("grid2: max_cells must be in [1, 2^31], got " + std::to_string(o.max_cells));
-  }
-  if (o.max_leaf_resolution < 1 || o.max_leaf_resolution > 255) {
-    throw Error("grid2: max_leaf_resolution must be in [1, 255], got " + std::to_string(o.max_leaf_resolution));
-  }
-}
-
 AABB grow(const AABB& b, float pad) { return {b.lo - Vec3{pad}, b.hi + Vec3{pad}}; }
 
 }  // namespace
 
-TwoLevelGrid::TwoLevelGrid(TwoLevelGridOptions options) : options_(options) { check_options(options_); }
+const OptionTable<TwoLevelGridOptions>& two_level_grid_option_table() {
+  using O = TwoLevelGridOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("grid2");
+    t.real("top_density", &O::top_density, RealRange::positive(), "top cells per axis ~ top_density * cbrt(primitives)");
+    t.real("leaf_density", &O::leaf_density, RealRange::positive(),
+           "leaf cells per axis of a top cell ~ leaf_density * cbrt(its primitives)");
+    t.boolean("exact", &O::exact, "triangles: reference only cells the triangle overlaps (SAT)");
+    t.boolean("mailbox", &O::mailbox, "test a primitive spanning cells once per ray");
+    t.integer("max_resolution", &O::max_resolution, 1, 65536, "top cells per axis at most");
+    t.integer("max_cells", &O::max_cells, 1, 1ll << 31, "top cells at most");
+    t.integer("max_leaf_resolution", &O::max_leaf_resolution, 1, 255, "leaf cells per axis in one top cell at most");
+    return t;
+  }();
+  return table;
+}
+
+TwoLevelGrid::TwoLevelGrid(TwoLevelGridOptions options) : options_(options) {
+  two_level_grid_option_table().check(options_);
+}
 
 void TwoLevelGrid::build(const Scene& scene) {
   scene_ = &scene;
@@ -182,40 +183,15 @@ std::vector<std::string> TwoLevelGrid::validate() const {
     }
   }
   if (next_cell + 1 != leaf_offsets_.size()) problems.push_back("leaf offset array has cells no subgrid owns");
-  check_all_referenced(*scene_, seen, problems);
+  report_unreferenced(*scene_, seen, "cell", problems);
   return problems;
 }
 
 void register_two_level_grid(std::vector<AcceleratorInfo>& registry) {
-  const TwoLevelGridOptions d;
-  registry.push_back(
-      {"grid2",
-       "two-level grid: a coarse grid whose occupied cells hold their own grids (Kalojanov et al. 2011)",
-       {{"top_density", OptionType::real, "1", "top cells per axis ~ top_density * cbrt(primitives)", {}},
-        {"leaf_density", OptionType::real, "2", "leaf cells per axis of a top cell ~ leaf_density * cbrt(its primitives)", {}},
-        {"exact", OptionType::boolean, "true", "triangles: reference only cells the triangle overlaps (SAT)", {}},
-        {"mailbox", OptionType::boolean, "true", "test a primitive spanning cells once per ray", {}},
-        {"max_resolution", OptionType::integer, std::to_string(d.max_resolution), "top cells per axis at most", {}},
-        {"max_cells", OptionType::integer, std::to_string(d.max_cells), "top cells at most", {}},
-        {"max_leaf_resolution", OptionType::integer, std::to_string(d.max_leaf_resolution),
-         "leaf cells per axis in one top cell at most (1..255)", {}}},
-       {"grid2", "grid2:exact=false"},
-       [](const Options& o) {
-         TwoLevelGridOptions opt;
-         opt.top_density = o.get_real("top_density");
-         opt.leaf_density = o.get_real("leaf_density");
-         opt.exact = o.get_bool("exact");
-         opt.mailbox = o.get_bool("mailbox");
-         const long long res = o.get_int("max_resolution"), cells = o.get_int("max_cells");
-         const long long leaf = o.get_int("max_leaf_resolution");
-         if (res < 1 || res > 65536) throw Error("grid2: max_resolution must be in [1, 65536], got " + std::to_string(res));
-         if (cells < 1) throw Error("grid2: max_cells must be at least 1, got " + std::to_string(cells));
-         if (leaf < 1 || leaf > 255) throw Error("grid2: max_leaf_resolution must be in [1, 255], got " + std::to_string(leaf));
-         opt.max_resolution = int(res);
-         opt.max_cells = std::uint64_t(cells);
-         opt.max_leaf_resolution = int(leaf);
-         return std::make_unique<TwoLevelGrid>(opt);
-       }});
+  registry.push_back(registry_entry<TwoLevelGrid>(
+      two_level_grid_option_table(),
+      "two-level grid: a coarse grid whose occupied cells hold their own grids (Kalojanov et al. 2011)",
+      {"grid2", "grid2:exact=false"}));
 }
 
 }  // namespace rayaccel

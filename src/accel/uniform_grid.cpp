@@ -9,23 +9,22 @@
 
 namespace rayaccel {
 
-namespace {
-
-void check_options(const UniformGridOptions& o) {
-  if (!(o.density > 0.0) || !std::isfinite(o.density)) {
-    throw Error("grid: density must be a positive number, got " + std::to_string(o.density));
-  }
-  if (o.max_resolution < 1 || o.max_resolution > 65536) {
-    throw Error("grid: max_resolution must be in [1, 65536], got " + std::to_string(o.max_resolution));
-  }
-  if (o.max_cells < 1 || o.max_cells > (1ull << 31)) {
-    throw Error("grid: max_cells must be in [1, 2^31], got " + std::to_string(o.max_cells));
-  }
+const OptionTable<UniformGridOptions>& uniform_grid_option_table() {
+  using O = UniformGridOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("grid");
+    t.real("density", &O::density, RealRange::positive(), "cells per axis ~ density * cbrt(primitives)");
+    t.boolean("exact", &O::exact, "triangles: reference only cells the triangle overlaps (SAT)");
+    t.boolean("mailbox", &O::mailbox, "test a primitive spanning cells once per ray (blocks: whole blocks)");
+    t.boolean("blocks", &O::blocks, "triangles: cells hold Triangle4 blocks tested with SIMD (pays at density 1)");
+    t.integer("max_resolution", &O::max_resolution, 1, 65536, "cells per axis at most");
+    t.integer("max_cells", &O::max_cells, 1, 1ll << 31, "total cells at most (bounds memory)");
+    return t;
+  }();
+  return table;
 }
 
-}  // namespace
-
-UniformGrid::UniformGrid(UniformGridOptions options) : options_(options) { check_options(options_); }
+UniformGrid::UniformGrid(UniformGridOptions options) : options_(options) { uniform_grid_option_table().check(options_); }
 
 void UniformGrid::build(const Scene& scene) {
   scene_ = &scene;
@@ -73,7 +72,7 @@ void UniformGrid::build(const Scene& scene) {
   block_first_.back() = static_cast<std::uint32_t>(blocks_.size());
   blocks_.shrink_to_fit();
   lists_ = {};
-  isa_ = simd::best_isa(simd::Isa::avx2);
+  isa_ = simd::best_isa(kMaxIsa);
 }
 
 CellLists UniformGrid::cell_lists() const {
@@ -141,53 +140,21 @@ std::vector<std::string> UniformGrid::validate() const {
       }
     }
   }
-  if (!block_first_.empty()) {
-    // The copies must be exact.
-    for (const auto& b : blocks_) {
-      for (int lane = 0; lane < 4; ++lane) {
-        const std::uint32_t id = b.prim_id[lane];
-        if (id == kInvalidPrimId || id >= scene_->primitive_count()) continue;
-        if (!simd::block_lane_matches_scene(b, lane, *scene_)) {
-          problems.push_back("block copy of triangle " + std::to_string(id) + " differs from the scene");
-          return problems;
-        }
-      }
-    }
+  if (const auto stale = simd::first_stale_lane(blocks_, *scene_)) {
+    problems.push_back("block copy of triangle " + std::to_string(*stale) + " differs from the scene");
+    return problems;
   }
-  check_all_referenced(*scene_, seen, problems);
+  report_unreferenced(*scene_, seen, "cell", problems);
   if (prim_count_ > 0 && !frame_.box.contains(scene_->bounds())) problems.push_back("grid box does not hold the scene");
   return problems;
 }
 
 void register_uniform_grid(std::vector<AcceleratorInfo>& registry) {
-  const UniformGridOptions d;
-  registry.push_back(
-      {"grid",
-       "uniform grid with compact cell lists and 3D-DDA traversal (Amanatides & Woo 1987, Lagae & Dutre 2008)",
-       {{"density", OptionType::real, "3", "cells per axis ~ density * cbrt(primitives)", {}},
-        {"exact", OptionType::boolean, "true", "triangles: reference only cells the triangle overlaps (SAT)", {}},
-        {"mailbox", OptionType::boolean, d.mailbox ? "true" : "false",
-         "test a primitive spanning cells once per ray (blocks: whole blocks)", {}},
-        {"blocks", OptionType::boolean, d.blocks ? "true" : "false",
-         "triangles: cells hold Triangle4 blocks tested with SIMD (pays at density 1)", {}},
-        {"max_resolution", OptionType::integer, std::to_string(d.max_resolution), "cells per axis at most", {}},
-        {"max_cells", OptionType::integer, std::to_string(d.max_cells), "total cells at most (bounds memory)", {}}},
-       {"grid", "grid:exact=false", "grid:mailbox=false", "grid:density=1,blocks=true,mailbox=false",
-        "grid:density=1,blocks=true,mailbox=true"},
-       [](const Options& o) {
-         UniformGridOptions opt;
-         opt.density = o.get_real("density");
-         opt.exact = o.get_bool("exact");
-         opt.mailbox = o.get_bool("mailbox");
-         opt.blocks = o.get_bool("blocks");
-         const long long res = o.get_int("max_resolution");
-         const long long cells = o.get_int("max_cells");
-         if (res < 1 || res > 65536) throw Error("grid: max_resolution must be in [1, 65536], got " + std::to_string(res));
-         if (cells < 1) throw Error("grid: max_cells must be at least 1, got " + std::to_string(cells));
-         opt.max_resolution = int(res);
-         opt.max_cells = std::uint64_t(cells);
-         return std::make_unique<UniformGrid>(opt);
-       }});
+  registry.push_back(registry_entry<UniformGrid>(
+      uniform_grid_option_table(),
+      "uniform grid with compact cell lists and 3D-DDA traversal (Amanatides & Woo 1987, Lagae & Dutre 2008)",
+      {"grid", "grid:exact=false", "grid:mailbox=false", "grid:density=1,blocks=true,mailbox=false",
+        "grid:density=1,blocks=true,mailbox=true"}));
 }
 
 }  // namespace rayaccel

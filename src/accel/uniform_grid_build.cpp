@@ -186,14 +186,4 @@ void validate_cell_lists(const Scene& scene, std::span<const std::uint32_t> offs
   }
 }
 
-void check_all_referenced(const Scene& scene, const std::vector<std::uint8_t>& seen,
-                          std::vector<std::string>& problems) {
-  for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
-    if (scene.is_valid(id) && !seen[id]) {
-      problems.push_back("valid primitive " + std::to_string(id) + " is referenced by no cell");
-      break;
-    }
-  }
-}
-
 }  // namespace rayaccel

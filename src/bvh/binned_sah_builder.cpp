@@ -246,7 +246,7 @@ std::size_t partition_binned(std::span<PrimRef> refs, const BinnedSplit& split, 
   return left;
 }
 
-BuildTree build_binned_sah(PrimRefs refs, const BinnedSahConfig& config) {
+BuildTree build_binned_sah(PrimRefs refs, const BinnedSahOptions& config) {
   if (config.bin_count < 2 || config.bin_count > kMaxBins) {
     throw Error("binned SAH: bin count " + std::to_string(config.bin_count) + " is outside 2.." +
                 std::to_string(kMaxBins));

@@ -19,11 +19,11 @@ namespace {
 
 struct VolumeEntry {
   const char* name;
-  std::unique_ptr<Accelerator> (*make)(const BvhConfig&);
+  std::unique_ptr<Accelerator> (*make)(const BvhOptions&);
 };
 
 template <BoundingVolume BV>
-std::unique_ptr<Accelerator> make_bvh(const BvhConfig& config) {
+std::unique_ptr<Accelerator> make_bvh(const BvhOptions& config) {
   return std::make_unique<Bvh<BV>>(config);
 }
 
@@ -38,27 +38,8 @@ const VolumeEntry kVolumes[] = {
     {CapsuleVolume::kName, &make_bvh<CapsuleVolume>},
 };
 
-constexpr BvhBuilder kBuilders[] = {BvhBuilder::binned, BvhBuilder::sweep, BvhBuilder::sbvh, BvhBuilder::lbvh,
-                                    BvhBuilder::ploc};
-
-std::uint32_t get_count(const Options& options, const std::string& key) {
-  const long long v = options.get_int(key);
-  if (v < 0 || v > 0xFFFFFFFFll) throw Error("bvh: option '" + key + "': " + std::to_string(v) + " is out of range");
-  return static_cast<std::uint32_t>(v);
-}
-
-std::unique_ptr<Accelerator> create(const Options& options) {
-  BvhConfig config;
-  for (BvhBuilder b : kBuilders) {
-    if (options.get("builder") == to_string(b)) config.builder = b;
-  }
-  config.max_leaf_size = get_count(options, "leaf_size");
-  config.costs = {static_cast<float>(options.get_real("traversal_cost")),
-                  static_cast<float>(options.get_real("intersection_cost"))};
-  config.bin_count = get_count(options, "bins");
-  config.max_growth = static_cast<float>(options.get_real("max_growth"));
-  config.overlap_alpha = static_cast<float>(options.get_real("overlap_alpha"));
-  config.ploc_radius = get_count(options, "ploc_radius");
+std::unique_ptr<Accelerator> create(const OptionValues& options) {
+  const BvhOptions config = bvh_option_table().parse(options);
   for (const VolumeEntry& v : kVolumes) {
     if (options.get("bv") == v.name) return v.make(config);
   }
@@ -71,25 +52,15 @@ void register_bvh(std::vector<AcceleratorInfo>& registry) {
   AcceleratorInfo info;
   info.name = "bvh";
   info.description = "bounding volume hierarchy: AABB/sphere/OBB/k-DOP/hull/capsule volumes; binned SAH, sweep SAH, SBVH, LBVH, PLOC";
-  std::vector<std::string> volumes, builders;
+  std::vector<std::string> volumes;
   for (const VolumeEntry& v : kVolumes) volumes.push_back(v.name);
-  for (BvhBuilder b : kBuilders) builders.push_back(to_string(b));
-  info.options = {
-      {"bv", OptionType::choice, "aabb", "bounding volume of every node", volumes},
-      {"builder", OptionType::choice, "binned",
-       "binned SAH (Wald 2007), sweep SAH, sbvh (spatial splits, Stich 2009), lbvh (Morton, Lauterbach 2009), ploc "
-       "(Meister & Bittner 2018)",
-       builders},
-      {"leaf_size", OptionType::integer, "4", "most primitives per leaf (1..255)", {}},
-      {"traversal_cost", OptionType::real, "1", "SAH cost of visiting an interior node", {}},
-      {"intersection_cost", OptionType::real, "1", "SAH cost of one primitive test", {}},
-      {"bins", OptionType::integer, "16", "bins per axis for binned SAH and SBVH (2..64)", {}},
-      {"max_growth", OptionType::real, "1.3", "SBVH: most references as a multiple of the primitive count", {}},
-      {"overlap_alpha", OptionType::real, "1e-5", "SBVH: child overlap (fraction of root area) that triggers spatial splits", {}},
-      {"ploc_radius", OptionType::integer, "16", "PLOC: neighbours searched on each side in Morton order", {}},
-  };
+  info.options = {{"bv", OptionType::choice, "aabb", "bounding volume of every node", volumes, {}}};
+  for (const OptionSpec& spec : bvh_option_table().specs()) info.options.push_back(spec);
   for (const std::string& v : volumes) {
-    for (const std::string& b : builders) info.variants.push_back("bvh:bv=" + v + ",builder=" + b);
+    for (const OptionSpec& builder : info.options) {
+      if (builder.key != "builder") continue;
+      for (const std::string& b : builder.choices) info.variants.push_back("bvh:bv=" + v + ",builder=" + b);
+    }
   }
   info.create = create;
   registry.push_back(std::move(info));

@@ -1,5 +1,7 @@
-// The builder dispatch of Bvh<BV> (one table from BvhBuilder to builder) and the configuration check.
+// The builder dispatch of Bvh<BV> (one table from BvhBuilder to builder) and the option table.
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rayaccel/bvh/binned_sah_builder.h"
 #include "rayaccel/bvh/bvh.h"
@@ -22,27 +24,34 @@ const char* to_string(BvhBuilder builder) {
   return "?";
 }
 
-void check_config(const BvhConfig& c) {
-  if (c.max_leaf_size < 1 || c.max_leaf_size > 255) {
-    throw Error("bvh: leaf_size " + std::to_string(c.max_leaf_size) + " is outside 1..255");
-  }
-  if (!(c.costs.traversal >= 0.0f) || !(c.costs.intersection > 0.0f)) {
-    throw Error("bvh: SAH costs must be traversal >= 0 and intersection > 0 (got " +
-                std::to_string(c.costs.traversal) + ", " + std::to_string(c.costs.intersection) + ")");
-  }
-  if (c.bin_count < 2 || c.bin_count > 64) {
-    throw Error("bvh: bins " + std::to_string(c.bin_count) + " is outside 2..64");
-  }
-  if (!(c.max_growth >= 1.0f && c.max_growth <= 16.0f)) {
-    throw Error("bvh: max_growth " + std::to_string(c.max_growth) + " is outside 1..16");
-  }
-  if (!(c.overlap_alpha >= 0.0f)) throw Error("bvh: overlap_alpha " + std::to_string(c.overlap_alpha) + " is < 0");
-  if (c.ploc_radius < 1 || c.ploc_radius > 256) {
-    throw Error("bvh: ploc_radius " + std::to_string(c.ploc_radius) + " is outside 1..256");
-  }
+const OptionTable<BvhOptions>& bvh_option_table() {
+  using O = BvhOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("bvh");
+    std::vector<std::pair<std::string, BvhBuilder>> builders;
+    for (BvhBuilder b : {BvhBuilder::binned, BvhBuilder::sweep, BvhBuilder::sbvh, BvhBuilder::lbvh, BvhBuilder::ploc}) {
+      builders.emplace_back(to_string(b), b);
+    }
+    t.choice("builder", &O::builder, builders,
+             "binned SAH (Wald 2007), sweep SAH, sbvh (spatial splits, Stich 2009), lbvh (Morton, Lauterbach 2009), "
+             "ploc (Meister & Bittner 2018)");
+    t.integer("leaf_size", &O::max_leaf_size, 1, 255, "most primitives per leaf");
+    t.real("traversal_cost", [](O& o) -> float& { return o.costs.traversal; }, RealRange::at_least(0.0),
+           "SAH cost of visiting an interior node");
+    t.real("intersection_cost", [](O& o) -> float& { return o.costs.intersection; }, RealRange::positive(),
+           "SAH cost of one primitive test");
+    t.integer("bins", &O::bin_count, 2, 64, "bins per axis for binned SAH and SBVH");
+    t.real("max_growth", &O::max_growth, RealRange::closed(1.0, 16.0),
+           "SBVH: most references as a multiple of the primitive count");
+    t.real("overlap_alpha", &O::overlap_alpha, RealRange::at_least(0.0),
+           "SBVH: child overlap (fraction of root area) that triggers spatial splits");
+    t.integer("ploc_radius", &O::ploc_radius, 1, 256, "PLOC: neighbours searched on each side in Morton order");
+    return t;
+  }();
+  return table;
 }
 
-BuildTree build_bvh_shape(const Scene& scene, const BvhConfig& c) {
+BuildTree build_bvh_shape(const Scene& scene, const BvhOptions& c) {
   switch (c.builder) {
     case BvhBuilder::binned:
       return build_binned_sah(scene.build_references(),

@@ -9,7 +9,7 @@
 
 namespace rayaccel {
 
-BuildTree build_lbvh(PrimRefs refs, const LbvhConfig& config) {
+BuildTree build_lbvh(PrimRefs refs, const LbvhOptions& config) {
   const std::vector<std::uint64_t> codes = sort_by_morton_code(refs);
   const TopDownLimits limits{config.max_leaf_size, config.parallel_threshold};
   // Equal codes make split() ask for a leaf; the median split the driver falls back to only reorders references

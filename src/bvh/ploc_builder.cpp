@@ -67,7 +67,7 @@ std::vector<Cluster> cluster(const PrimRefs& refs, std::uint32_t radius) {
 }
 
 /// Marks subtrees to emit as single leaves: at most max_leaf_size references and no costlier than split (SAH).
-void mark_collapsed(std::vector<Cluster>& nodes, const PlocConfig& config) {
+void mark_collapsed(std::vector<Cluster>& nodes, const PlocOptions& config) {
   std::vector<float> cost(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     Cluster& c = nodes[i];
@@ -128,7 +128,7 @@ class Emitter {
 
 }  // namespace
 
-BuildTree build_ploc(PrimRefs refs, const PlocConfig& config) {
+BuildTree build_ploc(PrimRefs refs, const PlocOptions& config) {
   BuildTree tree;
   if (refs.empty()) return tree;
   sort_by_morton_code(refs);

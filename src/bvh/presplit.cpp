@@ -175,7 +175,7 @@ double presplit_potential(const Scene& scene, std::uint32_t max_samples) {
   return sum * stride / scene_area;
 }
 
-PresplitResult presplit_references(const Scene& scene, const PresplitConfig& config) {
+PresplitResult presplit_references(const Scene& scene, const PresplitOptions& config) {
   PresplitResult result;
   const bool splits = scene.kind() == PrimitiveKind::triangles && config.fraction > 0.0f;
   const std::size_t valid = scene.valid_count();

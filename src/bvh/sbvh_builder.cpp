@@ -27,7 +27,7 @@ struct SpatialSplit {
 
 class SbvhBuilder {
  public:
-  SbvhBuilder(const Scene& scene, const SbvhConfig& config) : scene_(scene), config_(config) {}
+  SbvhBuilder(const Scene& scene, const SbvhOptions& config) : scene_(scene), config_(config) {}
 
   BuildTree run() {
     PrimRefs refs = scene_.build_references();
@@ -196,7 +196,7 @@ class SbvhBuilder {
   }
 
   const Scene& scene_;
-  const SbvhConfig& config_;
+  const SbvhOptions& config_;
   BuildTree tree_;
   float root_area_ = 0.0f;
   std::size_t budget_ = 0;
@@ -205,21 +205,7 @@ class SbvhBuilder {
 
 }  // namespace
 
-int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out) {
-  const AABB clip_box = widen_for_clipping(box);
-  ClippedPolygon scratch;
-  out[0] = triangle[0];
-  out[1] = triangle[1];
-  out[2] = triangle[2];
-  int n = 3;
-  for (int axis = 0; axis < 3 && n > 0; ++axis) {
-    n = clip_polygon_to_axis_plane(out.data(), n, axis, clip_box.lo[axis], false, scratch.data());
-    if (n > 0) n = clip_polygon_to_axis_plane(scratch.data(), n, axis, clip_box.hi[axis], true, out.data());
-  }
-  return n;
-}
-
-BuildTree build_sbvh(const Scene& scene, const SbvhConfig& config) {
+BuildTree build_sbvh(const Scene& scene, const SbvhOptions& config) {
   if (config.bin_count < 2 || config.bin_count > kMaxBins) {
     throw Error("SBVH: bin count " + std::to_string(config.bin_count) + " is outside 2.." + std::to_string(kMaxBins));
   }

@@ -17,7 +17,7 @@ void sort_on_axis(std::span<PrimRef> refs, int axis) {
   });
 }
 
-std::size_t sweep_split(std::span<PrimRef> refs, const SweepSahConfig& config) {
+std::size_t sweep_split(std::span<PrimRef> refs, const SweepSahOptions& config) {
   const std::size_t n = refs.size();
   std::vector<float> right_area(n);
   int best_axis = -1;
@@ -49,7 +49,7 @@ std::size_t sweep_split(std::span<PrimRef> refs, const SweepSahConfig& config) {
 
 }  // namespace
 
-BuildTree build_sweep_sah(PrimRefs refs, const SweepSahConfig& config) {
+BuildTree build_sweep_sah(PrimRefs refs, const SweepSahOptions& config) {
   const TopDownLimits limits{config.max_leaf_size, config.parallel_threshold};
   return build_top_down(std::move(refs), limits,
                         [&](std::uint32_t, std::span<PrimRef> node_refs) { return sweep_split(node_refs, config); });

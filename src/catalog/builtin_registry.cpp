@@ -7,6 +7,7 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/two_level_grid.h"
 #include "rayaccel/accel/uniform_grid.h"
+#include "rayaccel/compare/embree_accelerator.h"
 #include "rayaccel/wide/wide_bvh_registry.h"
 #include "rayaccel/bvh/bvh_registry.h"
 
@@ -21,6 +22,7 @@ void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_bsp_tree(registry);
   register_bvh(registry);
   wide::register_wide_bvh(registry);
+  register_embree(registry);  // a comparison entry, where Embree was found at build time
 }
 
 }  // namespace rayaccel

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -97,6 +98,7 @@ bool cannot_hit(const Ray& ray) { return !is_valid_ray(ray) || !(ray.t_min < ray
 }  // namespace
 
 EmbreeAccelerator::EmbreeAccelerator(EmbreeOptions options) : state_(std::make_unique<State>()) {
+  embree_option_table().check(options);
   state_->options = options;
   const std::string config = options.threads > 0 ? "threads=" + std::to_string(options.threads) : std::string();
   state_->device = rtcNewDevice(config.c_str());
@@ -305,6 +307,37 @@ std::vector<std::string> EmbreeAccelerator::validate() const {
   }
   return problems;
 }
+
+const OptionTable<EmbreeOptions>& embree_option_table() {
+  using O = EmbreeOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("embree");
+    t.choice("quality", &O::quality,
+             {{"low", EmbreeBuildQuality::low}, {"medium", EmbreeBuildQuality::medium},
+              {"high", EmbreeBuildQuality::high}},
+             "Embree's build quality (RTC_BUILD_QUALITY_*)");
+    t.boolean("robust", &O::robust, "RTC_SCENE_FLAG_ROBUST: Embree's watertight mode");
+    t.integer("threads", &O::threads, 0, 1 << 16,
+              "Embree's worker threads; 0 = Embree's default (the CLI passes its --threads)");
+    return t;
+  }();
+  return table;
+}
+
+void register_embree(std::vector<AcceleratorInfo>& registry) {
+  AcceleratorInfo info = registry_entry<EmbreeAccelerator>(
+      embree_option_table(), "Intel Embree 3 (found at build time), for comparisons: rtcIntersect1/8, rtcOccluded1", {});
+  info.comparison = true;
+  registry.push_back(std::move(info));
+}
+
+}  // namespace rayaccel
+
+#else
+
+namespace rayaccel {
+
+void register_embree(std::vector<AcceleratorInfo>&) {}
 
 }  // namespace rayaccel
 

@@ -5,7 +5,7 @@
 
 namespace rayaccel::generalized {
 
-void check_config(const BeamConfig& config) {
+void check_options(const BeamOptions& config) {
   if (config.tile_size < 1) throw Error("beams: tile_size " + std::to_string(config.tile_size) + " < 1");
   if (config.min_tile < 1) throw Error("beams: min_tile " + std::to_string(config.min_tile) + " < 1");
   if (!(config.max_candidates_per_pixel >= 0.0f)) {

@@ -9,7 +9,7 @@
 
 namespace rayaccel::generalized::cone_detail {
 
-void check_config(const ConeQueryConfig& config) {
+void check_options(const ConeQueryOptions& config) {
   if (config.samples < 1) throw Error("cone query: samples " + std::to_string(config.samples) + " < 1");
 }
 
@@ -28,7 +28,7 @@ float box_distance(const Vec3& p, const AABB& box) {
 }  // namespace
 
 std::vector<ConeHit> measure(const Scene& scene, const PreparedCone& cone, std::vector<std::uint32_t> candidates,
-                             const ConeQueryConfig& config, TraversalStats& stats) {
+                             const ConeQueryOptions& config, TraversalStats& stats) {
   std::vector<ConeHit> hits;
   hits.reserve(candidates.size());
   const std::vector<Vec3> pattern = cone.pattern(config.samples);
@@ -56,7 +56,7 @@ std::vector<ConeHit> measure(const Scene& scene, const PreparedCone& cone, std::
 }
 
 ConeVisibility visibility(const Scene& scene, const PreparedCone& cone, const std::vector<std::uint32_t>& candidates,
-                          const ConeQueryConfig& config, TraversalStats& stats) {
+                          const ConeQueryOptions& config, TraversalStats& stats) {
   ConeVisibility out;
   const std::vector<Vec3> pattern = cone.pattern(config.samples);
   std::vector<int> counts(candidates.size(), 0);

@@ -18,14 +18,14 @@ template <class View>
 class ViewRays final : public GeneralizedRays {
  public:
   ViewRays(View view, const Scene& scene) : view_(view), scene_(scene) {}
-  BeamResult trace_beams(const PixelRays& pixels, const BeamConfig& config) const override {
+  BeamResult trace_beams(const PixelRays& pixels, const BeamOptions& config) const override {
     return generalized::trace_beams(view_, scene_, pixels, config);
   }
-  std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryConfig& config,
+  std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryOptions& config,
                                   TraversalStats* stats) const override {
     return generalized::query_cone(view_, scene_, cone, config, stats);
   }
-  ConeVisibility cone_visibility(const Cone& cone, const ConeQueryConfig& config,
+  ConeVisibility cone_visibility(const Cone& cone, const ConeQueryOptions& config,
                                  TraversalStats* stats) const override {
     return generalized::cone_visibility(view_, scene_, cone, config, stats);
   }

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "rayaccel/accel/validation_report.h"
 #include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel::wide {
@@ -17,7 +18,7 @@ void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>
   };
   std::vector<Item> pending;
   if (root_ != kEmptyChild) pending.push_back({root_, scene_->bounds(), 1});
-  while (!pending.empty() && problems.size() < 20) {
+  while (!pending.empty() && problems.size() < kMaxProblems) {
     const Item item = pending.back();
     pending.pop_back();
     if (item.depth > kBvhMaxDepth) problems.push_back("depth exceeds the traversal stack bound");
@@ -55,9 +56,6 @@ void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>
               problems.push_back("primitive " + std::to_string(id) + " lies outside its leaf box");
             }
           }
-          if (triangles_ && !simd::block_lane_matches_scene(blocks_[b], lane, *scene_)) {
-            problems.push_back("leaf copy of triangle " + std::to_string(id) + " differs from the scene");
-          }
         }
       }
       continue;
@@ -77,11 +75,10 @@ void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>
       pending.push_back({node.child[lane], box, item.depth + 1});
     }
   }
-  for (std::uint32_t id = 0; id < seen.size() && problems.size() < 20; ++id) {
-    if (scene_->is_valid(id) && !seen[id]) {
-      problems.push_back("primitive " + std::to_string(id) + " is not reachable");
-    }
+  if (const auto stale = simd::first_stale_lane(blocks_, *scene_)) {
+    problems.push_back("leaf copy of triangle " + std::to_string(*stale) + " differs from the scene");
   }
+  report_unreferenced(*scene_, seen, "leaf", problems);
 }
 
 std::vector<std::string> WideBvh::validate() const {

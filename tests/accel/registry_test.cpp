@@ -8,33 +8,23 @@
 
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
+#include "../error_message.h"
 
 namespace rayaccel {
 namespace {
 
-/// The message of the Error `f` throws; fails the test if it throws nothing.
-template <class F>
-std::string error_message(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected rayaccel::Error";
-  return {};
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using testing::contains;
+using testing::error_message;
 
 /// A registry entry with one option of each type, for option validation.
 AcceleratorInfo fake_info() {
   AcceleratorInfo info;
   info.name = "fake";
   info.description = "test entry";
-  info.options = {{"bv", OptionType::choice, "aabb", "volume", {"aabb", "obb"}},
-                  {"leaf_size", OptionType::integer, "4", "primitives per leaf", {}},
-                  {"ratio", OptionType::real, "0.5", "a ratio", {}},
-                  {"fast", OptionType::boolean, "false", "a switch", {}}};
+  info.options = {{"bv", OptionType::choice, "aabb", "volume", {"aabb", "obb"}, {}},
+                  {"leaf_size", OptionType::integer, "4", "primitives per leaf", {}, {}},
+                  {"ratio", OptionType::real, "0.5", "a ratio", {}, {}},
+                  {"fast", OptionType::boolean, "false", "a switch", {}, {}}};
   return info;
 }
 
@@ -58,13 +48,13 @@ TEST(RegistrySpec, MalformedSpecsAreErrors) {
 }
 
 TEST(RegistryOptions, DefaultsFillEveryKey) {
-  const Options o = resolve_options(fake_info(), {});
+  const OptionValues o = resolve_options(fake_info(), {});
   EXPECT_EQ(o.get("bv"), "aabb");
   EXPECT_EQ(o.get_int("leaf_size"), 4);
   EXPECT_DOUBLE_EQ(o.get_real("ratio"), 0.5);
   EXPECT_FALSE(o.get_bool("fast"));
   EXPECT_THROW(o.get("missing"), Error);
-  const Options given = resolve_options(fake_info(), {{"bv", "obb"}, {"leaf_size", "-3"}, {"ratio", "2e-3"}, {"fast", "on"}});
+  const OptionValues given = resolve_options(fake_info(), {{"bv", "obb"}, {"leaf_size", "-3"}, {"ratio", "2e-3"}, {"fast", "on"}});
   EXPECT_EQ(given.get("bv"), "obb");
   EXPECT_EQ(given.get_int("leaf_size"), -3);
   EXPECT_DOUBLE_EQ(given.get_real("ratio"), 2e-3);

@@ -1,5 +1,6 @@
 // Two-level grid against brute force: soups, a dense cluster in a large sparse box (teapot in a stadium), quad
-// lattices with rays along lattice planes, +-0 directions, empty and one-triangle scenes; options and validate().
+// lattices with rays along lattice planes, +-0 directions; options and validate() (empty, one-triangle and sphere
+// scenes: the conformance suite, for every structure).
 #include "rayaccel/accel/two_level_grid.h"
 
 #include <gtest/gtest.h>
@@ -85,30 +86,6 @@ TEST(TwoLevelGrid, ClosedSphereAndQuadLattice) {
                                spec);
     expect_matches_brute_force(*accel, lattice, testing::random_rays(1500, 31, lattice.bounds()), spec);
   }
-}
-
-TEST(TwoLevelGrid, EmptySceneSingleTriangleAndSpheres) {
-  TwoLevelGrid grid;
-  const Scene empty = Scene::from_mesh({});
-  grid.build(empty);
-  expect_valid(grid);
-  EXPECT_FALSE(grid.intersect(Ray{{0, 0, -1}, 0, {0, 0, 1}}).found());
-
-  TriangleMesh one;
-  one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  one.triangles = {{0, 1, 2}};
-  const Scene single = Scene::from_mesh(one);
-  grid.build(single);
-  expect_valid(grid);
-  EXPECT_FLOAT_EQ(grid.intersect(Ray{{0.25f, 0.25f, -1}, 0, {0, 0, 1}}).t, 1.0f);
-  expect_matches_brute_force(grid, single, testing::random_rays(500, 37, single.bounds()), "single");
-
-  std::vector<Sphere> spheres;
-  for (int i = 0; i < 300; ++i) spheres.push_back({{float(i % 7), float(i % 11) * 0.5f, float(i % 13) * 0.3f}, 0.15f});
-  const Scene balls = Scene::from_spheres(spheres);
-  grid.build(balls);
-  expect_valid(grid);
-  expect_matches_brute_force(grid, balls, testing::random_rays(1500, 41, balls.bounds()), "spheres");
 }
 
 TEST(TwoLevelGrid, BadOptionsAreErrors) {

@@ -33,7 +33,7 @@ static_assert(BoundingVolume<PointFittedBox>);
 class BvhGenericVolume : public ::testing::TestWithParam<BvhBuilder> {};
 
 TEST_P(BvhGenericVolume, AgreesWithBruteForceAndValidates) {
-  BvhConfig config;
+  BvhOptions config;
   config.builder = GetParam();
   for (const Scene& scene : {bvh_test::random_soup(1500, 51, 0.3f), bvh_test::coplanar_and_duplicates(52),
                              bvh_test::random_spheres(300, 53)}) {
@@ -52,7 +52,7 @@ TEST_P(BvhGenericVolume, AgreesWithBruteForceAndValidates) {
 }
 
 TEST_P(BvhGenericVolume, RefitAndSaveLoad) {
-  BvhConfig config;
+  BvhOptions config;
   config.builder = GetParam();
   TriangleMesh mesh = bvh_test::grid_mesh(16);
   Scene scene = Scene::from_mesh(mesh, "grid");

@@ -54,7 +54,7 @@ class BvhSaveLoad : public ::testing::TestWithParam<BvhBuilder> {
 
 TEST_P(BvhSaveLoad, RoundTripGivesSameTreeAndHits) {
   const Scene scene = bvh_test::random_soup(2000, 21);
-  BvhConfig config;
+  BvhOptions config;
   config.builder = GetParam();
   Bvh<AabbVolume> built(config);
   built.build(scene);
@@ -67,7 +67,7 @@ TEST_P(BvhSaveLoad, RoundTripGivesSameTreeAndHits) {
   EXPECT_EQ(std::memcmp(loaded.nodes().data(), built.nodes().data(), built.nodes().size() * sizeof(built.nodes()[0])),
             0);
   EXPECT_EQ(loaded.depth(), built.depth());
-  EXPECT_EQ(loaded.config().max_leaf_size, built.config().max_leaf_size);
+  EXPECT_EQ(loaded.options().max_leaf_size, built.options().max_leaf_size);
   for (const Ray& r : bvh_test::random_rays(scene.bounds(), 500, 3)) {
     const Hit a = built.intersect(r), b = loaded.intersect(r);
     EXPECT_EQ(a.prim_id, b.prim_id);
@@ -77,7 +77,7 @@ TEST_P(BvhSaveLoad, RoundTripGivesSameTreeAndHits) {
 
 TEST_P(BvhSaveLoad, BadFilesGiveErrorsNamingFileAndFault) {
   const Scene scene = bvh_test::random_soup(300, 22);
-  BvhConfig config;
+  BvhOptions config;
   config.builder = GetParam();
   Bvh<AabbVolume> built(config);
   built.build(scene);

@@ -23,7 +23,7 @@ TEST_P(BvhRefit, WaveFramesAgreeWithBruteForce) {
   const std::vector<Vec3> rest = mesh.vertices;
   Scene scene = Scene::from_mesh(mesh, "wave");
   scene.set_vertices(wave(rest, 0.0f));
-  BvhConfig config;
+  BvhOptions config;
   config.builder = GetParam();
   Bvh<AabbVolume> bvh(config);
   bvh.build(scene);
@@ -64,7 +64,7 @@ TEST(BvhRefitSbvh, DuplicatedReferencesSurviveRefit) {
     mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
   }
   Scene scene = Scene::from_mesh(mesh, "slivers");
-  BvhConfig config;
+  BvhOptions config;
   config.builder = BvhBuilder::sbvh;
   Bvh<AabbVolume> bvh(config);
   bvh.build(scene);

@@ -80,8 +80,8 @@ TEST_F(BvhValidate, CatchesNodeReachedTwice) {
 }
 
 TEST_F(BvhValidate, CatchesOversizedLeaf) {
-  BvhTestAccess::nodes(bvh_)[leaf_].count = bvh_.config().max_leaf_size + 1;
-  EXPECT_TRUE(mentions(bvh_.validate(), "more than " + std::to_string(bvh_.config().max_leaf_size)));
+  BvhTestAccess::nodes(bvh_)[leaf_].count = bvh_.options().max_leaf_size + 1;
+  EXPECT_TRUE(mentions(bvh_.validate(), "more than " + std::to_string(bvh_.options().max_leaf_size)));
 }
 
 TEST(BvhStatistics, ReportsCountsCostAndTightness) {

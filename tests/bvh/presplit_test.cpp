@@ -195,7 +195,7 @@ TEST(PresplitPotential, SeparatesSmallTrianglesFromLargeOnes) {
   EXPECT_GE(small, 0.0);
   EXPECT_LT(small, 0.1);
   EXPECT_GT(large, 10.0);
-  EXPECT_GE(presplit_potential(diagonal_scene(400, 23), 0), wide::WideBvhConfig{}.presplit_threshold);
+  EXPECT_GE(presplit_potential(diagonal_scene(400, 23), 0), wide::WideBvhOptions{}.presplit_threshold);
 }
 
 TEST(PresplitPotential, SampledEstimateIsCloseAndExactWhenAllAreSampled) {
@@ -259,7 +259,7 @@ TEST(PresplitWideBvh, ThresholdOptionIsCheckedAndDefaultsToTheConfig) {
   const auto option = std::find_if(info.options.begin(), info.options.end(),
                                    [](const OptionSpec& o) { return o.key == "presplit_threshold"; });
   ASSERT_NE(option, info.options.end());
-  EXPECT_EQ(std::stof(option->default_value), wide::WideBvhConfig{}.presplit_threshold);
+  EXPECT_EQ(std::stof(option->default_value), wide::WideBvhOptions{}.presplit_threshold);
   for (const char* bad : {"bvh_wide:presplit_threshold=-1", "bvh_wide:presplit_threshold=nan",
                           "bvh_wide:presplit_threshold=inf"}) {
     try {
@@ -308,7 +308,7 @@ TEST(PresplitWideBvh, RegistryDefaultIsTheConfigDefault) {
                                    [](const OptionSpec& o) { return o.key == "presplit"; });
   ASSERT_NE(option, info.options.end());
   EXPECT_EQ(option->type, OptionType::real);
-  EXPECT_EQ(std::stof(option->default_value), wide::WideBvhConfig{}.presplit);
+  EXPECT_EQ(std::stof(option->default_value), wide::WideBvhOptions{}.presplit);
   // The default splits this scene (its potential is above the default threshold); presplit=0 keeps one reference per
   // triangle.
   const Scene scene = diagonal_scene(400, 23);

@@ -11,7 +11,10 @@
 #include <limits>
 #include <random>
 
+#include <embree3/rtcore.h>
+
 #include "rayaccel/accel/brute_force.h"
+#include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/workloads.h"
@@ -235,6 +238,46 @@ TEST(EmbreeAccelerator, RejectsNonTriangleScenes) {
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(), "embree comparison supports triangle scenes only");
   }
+}
+
+double statistic(const Accelerator& accel, const std::string& name) {
+  for (const auto& s : accel.build_statistics()) {
+    if (s.name == name) return s.value;
+  }
+  ADD_FAILURE() << "no statistic " << name;
+  return -1.0;
+}
+
+TEST(EmbreeAccelerator, RegisteredAsAComparisonEntryWithItsSpecs) {
+  const AcceleratorInfo& info = find_accelerator("embree");
+  EXPECT_TRUE(info.comparison);
+  for (const auto& name : accelerator_variant_names()) EXPECT_NE(parse_accelerator_spec(name).name, "embree") << name;
+  const Scene scene = random_triangles(300);
+  BruteForce oracle;
+  oracle.build(scene);
+  const auto rays = random_rays(500);
+  struct Case {
+    const char* spec;
+    RTCBuildQuality quality;
+    double robust, threads;
+  };
+  for (const Case& c : {Case{"embree", RTC_BUILD_QUALITY_MEDIUM, 0, 0}, Case{"embree:quality=high", RTC_BUILD_QUALITY_HIGH, 0, 0},
+                        Case{"embree:robust=1", RTC_BUILD_QUALITY_MEDIUM, 1, 0},
+                        Case{"embree:quality=low,robust=true,threads=2", RTC_BUILD_QUALITY_LOW, 1, 2}}) {
+    auto accel = make_accelerator(c.spec);
+    EXPECT_EQ(accel->spec(), c.spec);
+    accel->build(scene);
+    EXPECT_EQ(statistic(*accel, "build_quality"), static_cast<double>(c.quality)) << c.spec;
+    EXPECT_EQ(statistic(*accel, "robust"), c.robust) << c.spec;
+    EXPECT_EQ(statistic(*accel, "threads"), c.threads) << c.spec;
+    for (const Ray& ray : rays) EXPECT_TRUE(agrees(accel->intersect(ray), oracle.intersect(ray))) << c.spec;
+  }
+  // The caller's fallback (the CLI's --threads) applies only where the spec leaves threads out.
+  EXPECT_EQ(statistic(*make_accelerator("embree", {{"threads", "3"}}), "threads"), 3.0);
+  EXPECT_EQ(statistic(*make_accelerator("embree:threads=1", {{"threads", "3"}}), "threads"), 1.0);
+  EXPECT_THROW(make_accelerator("embree:quality=best"), Error);
+  EXPECT_THROW(make_accelerator("embree:robust=2"), Error);
+  EXPECT_THROW(make_accelerator("embree:bins=4"), Error);
 }
 
 }  // namespace

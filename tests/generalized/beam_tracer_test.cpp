@@ -23,7 +23,7 @@
 namespace rayaccel {
 namespace {
 
-using generalized::BeamConfig;
+using generalized::BeamOptions;
 using generalized::BeamResult;
 using generalized::PixelRays;
 
@@ -128,8 +128,8 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
     const auto rays = generalized::make_generalized_rays(*accel, c.scene);
     const CameraFrame frame = c.camera.frame(c.width, c.height);
     // Defaults, and odd tiles split as far as they go (down to single pixels, each level from its entry point).
-    for (const BeamConfig& config :
-         {BeamConfig{}, BeamConfig{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}}) {
+    for (const BeamOptions& config :
+         {BeamOptions{}, BeamOptions{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}}) {
       const BeamResult result = rays->trace_beams(pixels_of(frame), config);
       std::string report;
       EXPECT_EQ(differences(*accel, frame, result, report), 0) << c.name << " tile " << config.tile_size << "\n" << report;
@@ -170,7 +170,7 @@ TEST(BeamTracer, RejectsBadInput) {
   accel->build(scene);
   const auto rays = generalized::make_generalized_rays(*accel, scene);
   const CameraFrame frame = Camera{}.frame(4, 4);
-  EXPECT_THROW(rays->trace_beams(pixels_of(frame), BeamConfig{.tile_size = 0}), Error);
+  EXPECT_THROW(rays->trace_beams(pixels_of(frame), BeamOptions{.tile_size = 0}), Error);
   EXPECT_THROW(rays->trace_beams(PixelRays{0, 4, pixels_of(frame).ray_at}, {}), Error);
   const PixelRays moving{4, 4, [](float x, float y) { return Ray{{x, y, 1}, 0, {0, 0, -1}}; }};
   EXPECT_THROW(rays->trace_beams(moving, {}), Error);

@@ -23,7 +23,7 @@ TEST_P(CollapseThreads, OneThreadAndSeveralBuildTheSameTree) {
   // The default scene (13,568 triangles) has a few thousand leaves, several ranges of 512 for the parallel block
   // filling; four threads oversubscribe a two-core machine on purpose.
   const Scene scene = make_builtin_scene("default");
-  WideBvhConfig config;
+  WideBvhOptions config;
   config.width = GetParam();
   WideBvh serial(config), parallel(config);
   tbb::task_arena(1).execute([&] { serial.build(scene); });

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/segment_traversal.h"
 #include "rayaccel/geometry/ray_box.h"
@@ -110,9 +111,13 @@ struct BspTreeData {
 /// that a part of it inside the cell reaches, with a small tolerance); other primitives use their boxes.
 BspTreeData build_bsp_tree(const Scene& scene, const BspTreeOptions& options);
 
+/// The BspTree's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<BspTreeOptions>& bsp_tree_option_table();
+
 class BspTree final : public AcceleratorImpl<BspTree> {
  public:
-  explicit BspTree(BspTreeOptions options = {}) : options_(options) {}
+  /// Throws Error naming the first option outside its range (bsp_tree_option_table()).
+  explicit BspTree(BspTreeOptions options = {});
 
   void build(const Scene& scene) override;
   std::size_t memory_bytes() const override {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/segment_traversal.h"
 #include "rayaccel/geometry/ray_box.h"
@@ -109,9 +110,13 @@ inline double kd_leaf_cost(const KdTreeOptions& options, std::size_t n) {
   return double(options.intersection_cost) * double((n + b - 1) / b);
 }
 
+/// The KdTree's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<KdTreeOptions>& kd_tree_option_table();
+
 class KdTree final : public AcceleratorImpl<KdTree> {
  public:
-  explicit KdTree(KdTreeOptions options = {}) : options_(options) {}
+  /// Throws Error naming the first option outside its range (kd_tree_option_table()).
+  explicit KdTree(KdTreeOptions options = {});
 
   void build(const Scene& scene) override;
   std::size_t memory_bytes() const override {
@@ -125,7 +130,7 @@ class KdTree final : public AcceleratorImpl<KdTree> {
   /// Clips the ray to the root cell, then walks the cells it crosses front to back (segment_traversal.h).
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+    simd::run_with_lanes<kMaxIsa>(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
       if (options_.mailbox) {
         trace_cells<Lanes, AnyHit, true>(ray, hit, stats);
       } else {
@@ -149,6 +154,9 @@ class KdTree final : public AcceleratorImpl<KdTree> {
   std::vector<std::uint32_t> block_first_;
   std::vector<simd::Triangle4> blocks_;
   /// Instruction set of the block tests (AVX2 at most: two blocks at a time; sse2: one, or no blocks at all).
+  /// The widest kernels this structure runs: AVX2 (only bvh_wide has an AVX-512 build; the dispatch compiles no
+  /// AVX-512 copy of this traversal).
+  static constexpr simd::Isa kMaxIsa = simd::Isa::avx2;
   simd::Isa isa_ = simd::Isa::sse2;
   double build_ms_ = 0.0;
 };

@@ -14,6 +14,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/accel/grid_dda.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/geometry/ray_box.h"
 
@@ -35,11 +36,15 @@ struct OctreeNode {
 };
 static_assert(sizeof(OctreeNode) == 8, "OctreeNode is 8 bytes");
 
+/// The Octree's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<OctreeOptions>& octree_option_table();
+
 class Octree final : public AcceleratorImpl<Octree> {
  public:
   static constexpr std::uint32_t kLeaf = 0xFFFFFFFFu;
   static constexpr int kMaxDepth = 20;
 
+  /// Throws Error naming the first option outside its range (octree_option_table()).
   explicit Octree(OctreeOptions options = {});
 
   /// Builds over every valid primitive of `scene` (all become active).

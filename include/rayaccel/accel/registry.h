@@ -23,14 +23,15 @@ struct OptionSpec {
   std::string default_value;
   std::string description;
   std::vector<std::string> choices;  ///< the allowed values of a choice option
+  std::string range;                 ///< the allowed interval of a number ("[1, 255]", "(0, inf)"); empty otherwise
 };
 
-/// Option values after validation against the structure's OptionSpecs; every declared key has a value (its
-/// default when not given).
-class Options {
+/// Option values as text after validation against the structure's OptionSpecs; every declared key has a value (its
+/// default when not given). A structure's OptionTable turns them into its options struct.
+class OptionValues {
  public:
-  Options() = default;
-  explicit Options(std::map<std::string, std::string> values) : values_(std::move(values)) {}
+  OptionValues() = default;
+  explicit OptionValues(std::map<std::string, std::string> values) : values_(std::move(values)) {}
   const std::string& get(const std::string& key) const;
   long long get_int(const std::string& key) const;
   double get_real(const std::string& key) const;
@@ -48,14 +49,19 @@ struct AcceleratorInfo {
   /// Specs `rayaccel list --names` prints for this structure (every meaningful combination, e.g.
   /// "bvh:bv=obb,builder=ploc"); empty means just the name.
   std::vector<std::string> variants;
-  std::function<std::unique_ptr<Accelerator>(const Options&)> create;
+  std::function<std::unique_ptr<Accelerator>(const OptionValues&)> create;
+  /// Another library's structure, for comparisons (Embree): created by spec like any other, but not among
+  /// accelerator_variant_names() (so not in `list --names`, `--accel all` or the conformance suite).
+  bool comparison = false;
 };
 
 /// Every registered structure, brute force first.
 const std::vector<AcceleratorInfo>& accelerator_registry();
 /// Looks a structure up by name; throws Error listing the known names when there is none.
 const AcceleratorInfo& find_accelerator(std::string_view name);
-/// Every spec `rayaccel list --names` prints, in registry order.
+/// Whether a structure of this name is registered (e.g. "embree", which is only where it was found at build time).
+bool has_accelerator(std::string_view name);
+/// Every spec `rayaccel list --names` prints, in registry order (comparison entries left out).
 std::vector<std::string> accelerator_variant_names();
 
 /// A parsed spec: name plus given key=value pairs.
@@ -66,10 +72,14 @@ struct AcceleratorSpec {
 AcceleratorSpec parse_accelerator_spec(std::string_view spec);
 /// Checks keys and values against the structure's options and fills in defaults; throws Error naming the bad key
 /// or value and listing the known keys or allowed values.
-Options resolve_options(const AcceleratorInfo& info, const std::map<std::string, std::string>& given);
+OptionValues resolve_options(const AcceleratorInfo& info, const std::map<std::string, std::string>& given);
 
 /// Creates an unbuilt accelerator from a spec such as "kdtree:builder=sah,leaf_size=4".
 std::unique_ptr<Accelerator> make_accelerator(std::string_view spec);
+/// As make_accelerator(spec), with `fallback` values for the options the structure has and the spec leaves out
+/// (the CLI's --threads for a structure with a `threads` option of its own); fallback keys it lacks are ignored.
+std::unique_ptr<Accelerator> make_accelerator(std::string_view spec,
+                                              const std::map<std::string, std::string>& fallback);
 
 /// Registration hooks, one per structure module, called in this order by accelerator_registry() (see
 /// src/catalog/builtin_registry.cpp, the one file above every structure).

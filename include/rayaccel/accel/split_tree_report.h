@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/validation_report.h"
 #include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
@@ -26,12 +27,6 @@ struct SplitTreeCounts {
 std::vector<BuildStatistic> split_tree_statistics(const SplitTreeCounts& counts, const Scene* scene);
 
 /// Collects validate() problems, keeping the first 20.
-struct ProblemList {
-  std::vector<std::string> problems;
-  void operator()(const std::string& problem) {
-    if (problems.size() < 20) problems.push_back(problem);
-  }
-};
 
 /// Reports the first node never reached and every valid primitive no leaf referenced.
 void report_unreached(const std::vector<std::uint8_t>& reached_nodes, const std::vector<std::uint8_t>& referenced,

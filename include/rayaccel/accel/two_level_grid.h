@@ -10,6 +10,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/accel/grid_dda.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/geometry/ray_box.h"
 
@@ -34,8 +35,12 @@ struct SubGrid {
 };
 static_assert(sizeof(SubGrid) == 32, "SubGrid is 32 bytes");
 
+/// The TwoLevelGrid's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<TwoLevelGridOptions>& two_level_grid_option_table();
+
 class TwoLevelGrid final : public AcceleratorImpl<TwoLevelGrid> {
  public:
+  /// Throws Error naming the first option outside its range (two_level_grid_option_table()).
   explicit TwoLevelGrid(TwoLevelGridOptions options = {});
 
   void build(const Scene& scene) override;

@@ -14,7 +14,9 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/accel/grid_dda.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/accel/validation_report.h"
 #include "rayaccel/geometry/ray_box.h"
 #include "rayaccel/simd/dispatch.h"
 #include "rayaccel/simd/triangle_blocks.h"
@@ -76,12 +78,12 @@ void validate_cell_lists(const Scene& scene, std::span<const std::uint32_t> offs
                          std::span<const std::uint32_t> ids, const GridFrame& frame, float pad, bool exact,
                          std::vector<std::uint8_t>& seen, std::vector<std::string>& problems);
 
-/// Appends a violation when a valid primitive of the scene has seen[id] == 0.
-void check_all_referenced(const Scene& scene, const std::vector<std::uint8_t>& seen,
-                          std::vector<std::string>& problems);
+/// The UniformGrid's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<UniformGridOptions>& uniform_grid_option_table();
 
 class UniformGrid final : public AcceleratorImpl<UniformGrid> {
  public:
+  /// Throws Error naming the first option outside its range (uniform_grid_option_table()).
   explicit UniformGrid(UniformGridOptions options = {});
 
   void build(const Scene& scene) override;
@@ -95,7 +97,7 @@ class UniformGrid final : public AcceleratorImpl<UniformGrid> {
   /// (hit.t <= cell exit); cells are padded at build time, so a hit just beyond the exit keeps the walk going.
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
-    simd::run_with_lanes(isa_,
+    simd::run_with_lanes<kMaxIsa>(isa_,
                          [&]<class Lanes>() RAYACCEL_LANE_LAMBDA { trace_cells<Lanes, AnyHit>(ray, hit, stats); });
   }
 
@@ -118,6 +120,9 @@ class UniformGrid final : public AcceleratorImpl<UniformGrid> {
   std::vector<simd::Triangle4> blocks_;
   std::vector<std::uint64_t> occupied_;  ///< bit c: cell c holds something
   /// Instruction set of the block tests (AVX2 at most: two blocks at a time; sse2: one, or no blocks at all).
+  /// The widest kernels this structure runs: AVX2 (only bvh_wide has an AVX-512 build; the dispatch compiles no
+  /// AVX-512 copy of this traversal).
+  static constexpr simd::Isa kMaxIsa = simd::Isa::avx2;
   simd::Isa isa_ = simd::Isa::sse2;
   std::size_t references_ = 0;
   std::size_t prim_count_ = 0;

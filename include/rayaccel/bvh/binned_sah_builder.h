@@ -9,7 +9,7 @@
 
 namespace rayaccel {
 
-struct BinnedSahConfig {
+struct BinnedSahOptions {
   std::uint32_t max_leaf_size = 4;          ///< largest leaf; smaller leaves are made when the SAH prefers them
   SahCosts costs;                           ///< traversal 1, intersection 1
   std::uint32_t bin_count = 16;             ///< bins per axis, 2..64 (Wald uses 8 to 32)
@@ -20,7 +20,7 @@ struct BinnedSahConfig {
 };
 
 /// Builds from references (boxes and ids only). Throws Error for a bin_count outside 2..64.
-BuildTree build_binned_sah(PrimRefs refs, const BinnedSahConfig& config);
+BuildTree build_binned_sah(PrimRefs refs, const BinnedSahOptions& config);
 
 }  // namespace rayaccel
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/bv/aabb_volume.h"
 #include "rayaccel/bv/bounding_volume.h"
 #include "rayaccel/bvh/build_tree.h"
@@ -26,7 +27,7 @@ enum class BvhBuilder { binned, sweep, sbvh, lbvh, ploc };
 /// Registry name of a builder: "binned", "sweep", "sbvh", "lbvh", "ploc".
 const char* to_string(BvhBuilder builder);
 
-struct BvhConfig {
+struct BvhOptions {
   BvhBuilder builder = BvhBuilder::binned;
   std::uint32_t max_leaf_size = 4;          ///< most primitives per leaf, 1..255
   SahCosts costs;                           ///< SAH constants for the builders and the reported cost (1 and 1)
@@ -38,12 +39,13 @@ struct BvhConfig {
   std::uint32_t parallel_threshold = 4096;  ///< top-down builders: subtrees at least this large build in parallel
 };
 
-/// Checks a configuration; throws Error naming the bad value.
-void check_config(const BvhConfig& config);
+/// The options of every Bvh<BV> (all but the volume, which is its type): key, member, range and doc of each; the
+/// "bvh" registry entry's options, their parsing, and the check Bvh's constructor runs.
+const OptionTable<BvhOptions>& bvh_option_table();
 
 /// Runs the configured builder over the scene's references. SBVH clips triangles to split planes; for other
 /// primitive kinds it makes object splits only.
-BuildTree build_bvh_shape(const Scene& scene, const BvhConfig& config);
+BuildTree build_bvh_shape(const Scene& scene, const BvhOptions& config);
 
 /// Node of the flat depth-first array. Children of an interior node: the next node and nodes[index].
 template <BoundingVolume BV>
@@ -63,7 +65,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   using Node = BvhNode<BV>;
 
   /// Checks the configuration (throws Error naming a bad value).
-  explicit Bvh(BvhConfig config = {});
+  explicit Bvh(BvhOptions config = {});
 
   void build(const Scene& scene) override;
   /// Re-fits every volume bottom-up after Scene::set_vertices() changed positions but not topology. The tree shape
@@ -98,7 +100,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
     }
   }
 
-  const BvhConfig& config() const { return config_; }
+  const BvhOptions& options() const { return config_; }
   const std::vector<Node>& nodes() const { return nodes_; }
   /// The scene's primitive id held by leaf slot `slot` (a leaf holds slots [index, index + count)).
   std::uint32_t slot_prim_id(std::uint32_t slot) const { return prim_ids_[slot]; }
@@ -122,7 +124,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   void fit_volumes();
   void compute_statistics(double build_ms);
 
-  BvhConfig config_;
+  BvhOptions config_;
   const Scene* scene_ = nullptr;
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> prim_ids_;         ///< per slot: the scene's primitive id

@@ -15,8 +15,8 @@
 namespace rayaccel {
 
 template <BoundingVolume BV>
-Bvh<BV>::Bvh(BvhConfig config) : config_(config) {
-  check_config(config_);
+Bvh<BV>::Bvh(BvhOptions config) : config_(config) {
+  bvh_option_table().check(config_);
 }
 
 template <BoundingVolume BV>

@@ -90,11 +90,11 @@ void Bvh<BV>::load(const std::filesystem::path& path, const Scene& scene) {
   if (stored != bvh_checksum(std::span<const std::byte>(bytes.data(), expected - sizeof stored))) {
     throw Error(where + "checksum mismatch (the file is corrupted)");
   }
-  BvhConfig config = config_;
+  BvhOptions config = config_;
   config.builder = static_cast<BvhBuilder>(h.builder);
   config.max_leaf_size = h.max_leaf_size;
   config.costs = {h.traversal_cost, h.intersection_cost};
-  check_config(config);
+  bvh_option_table().check(config);
   config_ = config;
   scene_ = &scene;
   depth_ = static_cast<int>(h.depth);

@@ -10,11 +10,11 @@
 
 namespace rayaccel {
 
-struct LbvhConfig {
+struct LbvhOptions {
   std::uint32_t max_leaf_size = 4;          ///< ranges of at most this many references become leaves
   std::uint32_t parallel_threshold = 4096;  ///< subtrees of at least this many references are built as parallel tasks
 };
 
-BuildTree build_lbvh(PrimRefs refs, const LbvhConfig& config);
+BuildTree build_lbvh(PrimRefs refs, const LbvhOptions& config);
 
 }  // namespace rayaccel

@@ -10,12 +10,12 @@
 
 namespace rayaccel {
 
-struct PlocConfig {
+struct PlocOptions {
   std::uint32_t max_leaf_size = 4;  ///< largest leaf made when collapsing subtrees
   SahCosts costs;                   ///< traversal 1, intersection 1: decide which subtrees become leaves
   std::uint32_t search_radius = 16; ///< neighbours searched on each side in Morton order (the paper's r)
 };
 
-BuildTree build_ploc(PrimRefs refs, const PlocConfig& config);
+BuildTree build_ploc(PrimRefs refs, const PlocOptions& config);
 
 }  // namespace rayaccel

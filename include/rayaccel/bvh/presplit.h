@@ -32,7 +32,7 @@
 
 namespace rayaccel {
 
-struct PresplitConfig {
+struct PresplitOptions {
   /// Extra references allowed, as a fraction of the number of valid triangles (0 = no splitting).
   float fraction = 0.3f;
   /// Exponent Y of the priority (Karras & Aila use 1/3: flattens the priority so more triangles get a split).
@@ -58,6 +58,6 @@ double presplit_potential(const Scene& scene, std::uint32_t max_samples = 65536)
 /// The build references of `scene` with large triangles pre-split. For scenes of spheres or user primitives, or a
 /// fraction <= 0, the result is exactly scene.build_references(). At most floor(fraction * n) references are added
 /// for n valid triangles. Parallel (TBB).
-PresplitResult presplit_references(const Scene& scene, const PresplitConfig& config);
+PresplitResult presplit_references(const Scene& scene, const PresplitOptions& config);
 
 }  // namespace rayaccel

@@ -12,7 +12,7 @@
 
 namespace rayaccel {
 
-struct SbvhConfig {
+struct SbvhOptions {
   std::uint32_t max_leaf_size = 4;  ///< largest leaf; smaller leaves are made when the SAH prefers them
   SahCosts costs;                   ///< traversal 1, intersection 1
   std::uint32_t bin_count = 16;     ///< bins per axis for object and spatial splits, 2..64
@@ -21,15 +21,8 @@ struct SbvhConfig {
                                     ///< more than this fraction of the root's area (the paper's alpha)
 };
 
-/// Room for a triangle clipped by a box's six planes (9 vertices) plus the one spare clip_polygon_to_axis_plane needs.
-using ClippedPolygon = std::array<Vec3, 10>;
-
-/// Clips triangle (a, b, c) to `box` widened by widen_for_clipping() and returns the vertex count of the polygon left
-/// in `out` (0 when the triangle misses the box): the points a volume is fitted to for one SBVH reference.
-int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out);
-
 /// Builds over the scene's references. Triangles are clipped; for spheres and user primitives only object splits
 /// are made (the result is then an ordinary binned SAH tree without reference duplication).
-BuildTree build_sbvh(const Scene& scene, const SbvhConfig& config);
+BuildTree build_sbvh(const Scene& scene, const SbvhOptions& config);
 
 }  // namespace rayaccel

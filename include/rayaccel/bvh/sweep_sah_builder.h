@@ -9,12 +9,12 @@
 
 namespace rayaccel {
 
-struct SweepSahConfig {
+struct SweepSahOptions {
   std::uint32_t max_leaf_size = 4;          ///< largest leaf; smaller leaves are made when the SAH prefers them
   SahCosts costs;                           ///< traversal 1, intersection 1
   std::uint32_t parallel_threshold = 4096;  ///< subtrees of at least this many references are built as parallel tasks
 };
 
-BuildTree build_sweep_sah(PrimRefs refs, const SweepSahConfig& config);
+BuildTree build_sweep_sah(PrimRefs refs, const SweepSahOptions& config);
 
 }  // namespace rayaccel

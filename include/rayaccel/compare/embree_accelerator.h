@@ -1,8 +1,20 @@
-// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only (it is not in
-// the registry). Rays go through rtcIntersect1/rtcOccluded1 one at a time (intersect_packets: rtcIntersect8 eight at
+// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only: registered as
+// "embree" (options quality, robust, threads) but marked a comparison entry, so it is not among the variants the
+// conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time (intersect_packets: rtcIntersect8 eight at
 // a time) inside the same TBB batch loop every structure uses, so timings compare like with like. Available only when
 // RAYACCEL_HAVE_EMBREE is defined.
 #pragma once
+
+#include <vector>
+
+#include "rayaccel/accel/registry.h"
+
+namespace rayaccel {
+
+/// Adds "embree" (a comparison entry) where Embree was found at build time; nothing otherwise.
+void register_embree(std::vector<AcceleratorInfo>& registry);
+
+}  // namespace rayaccel
 
 #ifdef RAYACCEL_HAVE_EMBREE
 
@@ -14,6 +26,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/option_table.h"
 
 namespace rayaccel {
 
@@ -30,9 +43,13 @@ struct EmbreeOptions {
 /// without reaching Embree. Traversal statistics are not available: the stats overloads leave them unchanged.
 /// Batches run with flush-to-zero and denormals-are-zero set, as Embree's documentation recommends for speed (so a
 /// subnormal ray component reads as zero there); single-ray calls run in the caller's floating-point environment.
+/// Embree's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<EmbreeOptions>& embree_option_table();
+
 class EmbreeAccelerator final : public Accelerator {
  public:
-  /// Creates the Embree device; throws Error with Embree's message when that fails.
+  /// Checks the options (embree_option_table()) and creates the Embree device; throws Error naming a bad option, or
+  /// with Embree's message when the device cannot be made.
   explicit EmbreeAccelerator(EmbreeOptions options = {});
   ~EmbreeAccelerator() override;
   EmbreeAccelerator(const EmbreeAccelerator&) = delete;

@@ -37,7 +37,7 @@ struct PixelRays {
   std::function<Ray(float, float)> ray_at;
 };
 
-struct BeamConfig {
+struct BeamOptions {
   int tile_size = 16;          ///< side of the first beams in pixels, >= 1
   int min_tile = 2;            ///< beams are not split below this side; their undecided rays are traced one by one
   bool entry_points = true;    ///< rays left over start at the tile's entry node (false: at the root)
@@ -47,7 +47,7 @@ struct BeamConfig {
   float max_candidates_per_pixel = 0.5f;
 };
 /// Checks a configuration; throws Error naming the bad value.
-void check_config(const BeamConfig& config);
+void check_options(const BeamOptions& config);
 
 /// What tracing by beams cost and how the pixels were resolved.
 struct BeamStats {
@@ -71,7 +71,7 @@ struct BeamResult {
 /// Traces every pixel's ray by beams over `view` (structure_views.h) built over `scene`. Throws Error when the pixel
 /// rays do not share one origin or the size is not positive.
 template <class View>
-BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamConfig& config);
+BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config);
 
 namespace beam_detail {
 
@@ -81,7 +81,7 @@ class TileTracer {
  public:
   using Ref = typename View::Ref;
   TileTracer(const View& view, const Scene& scene, const PixelRays& pixels, const std::vector<Ray>& rays,
-             const BeamConfig& config, std::vector<Hit>& hits)
+             const BeamOptions& config, std::vector<Hit>& hits)
       : view_(view), scene_(scene), pixels_(pixels), rays_(rays), config_(config), hits_(hits) {}
 
   void resolve(int x0, int y0, int x1, int y1, Ref start, BeamStats& stats) const {
@@ -240,7 +240,7 @@ class TileTracer {
   const Scene& scene_;
   const PixelRays& pixels_;
   const std::vector<Ray>& rays_;
-  const BeamConfig& config_;
+  const BeamOptions& config_;
   std::vector<Hit>& hits_;
 };
 
@@ -250,8 +250,8 @@ std::vector<Ray> pixel_rays(const PixelRays& pixels);
 }  // namespace beam_detail
 
 template <class View>
-BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamConfig& config) {
-  check_config(config);
+BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config) {
+  check_options(config);
   BeamResult result;
   const std::vector<Ray> rays = beam_detail::pixel_rays(pixels);
   result.hits.assign(rays.size(), Hit{});

@@ -14,7 +14,7 @@
 
 namespace rayaccel::generalized {
 
-struct ConeQueryConfig {
+struct ConeQueryOptions {
   /// Directions of the pattern that measures coverage (cone.h), >= 1. Coverage is a multiple of 1 / samples; a
   /// primitive's estimate errs by at most the fraction of pattern cells its outline crosses.
   int samples = 256;
@@ -44,21 +44,21 @@ struct ConeVisibility {
 /// always reported; a primitive the cone misses may be reported with coverage 0), ordered by distance, then id.
 /// `stats`, when given, counts volume tests as node visits and cone/primitive tests plus pattern ray tests.
 template <class View>
-std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone& cone, const ConeQueryOptions& config,
                                 TraversalStats* stats = nullptr);
 
 /// The cone's visibility (ConeVisibility) over the candidates query_cone() would report; `stats` as there.
 template <class View>
-ConeVisibility cone_visibility(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+ConeVisibility cone_visibility(const View& view, const Scene& scene, const Cone& cone, const ConeQueryOptions& config,
                                TraversalStats* stats = nullptr);
 
 namespace cone_detail {
 /// The coverage and distance of each candidate, sorted (cone_query.cpp).
 std::vector<ConeHit> measure(const Scene& scene, const PreparedCone& cone, std::vector<std::uint32_t> candidates,
-                             const ConeQueryConfig& config, TraversalStats& stats);
+                             const ConeQueryOptions& config, TraversalStats& stats);
 ConeVisibility visibility(const Scene& scene, const PreparedCone& cone, const std::vector<std::uint32_t>& candidates,
-                          const ConeQueryConfig& config, TraversalStats& stats);
-void check_config(const ConeQueryConfig& config);
+                          const ConeQueryOptions& config, TraversalStats& stats);
+void check_options(const ConeQueryOptions& config);
 
 template <class View>
 void collect(const View& view, const Scene& scene, const PreparedCone& cone, typename View::Ref ref,
@@ -98,9 +98,9 @@ std::vector<std::uint32_t> candidates(const View& view, const Scene& scene, cons
 }  // namespace cone_detail
 
 template <class View>
-std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone& cone, const ConeQueryOptions& config,
                                 TraversalStats* stats) {
-  cone_detail::check_config(config);
+  cone_detail::check_options(config);
   const PreparedCone prepared(cone);
   TraversalStats local;
   std::vector<ConeHit> hits =
@@ -110,9 +110,9 @@ std::vector<ConeHit> query_cone(const View& view, const Scene& scene, const Cone
 }
 
 template <class View>
-ConeVisibility cone_visibility(const View& view, const Scene& scene, const Cone& cone, const ConeQueryConfig& config,
+ConeVisibility cone_visibility(const View& view, const Scene& scene, const Cone& cone, const ConeQueryOptions& config,
                                TraversalStats* stats) {
-  cone_detail::check_config(config);
+  cone_detail::check_options(config);
   const PreparedCone prepared(cone);
   TraversalStats local;
   ConeVisibility out =

@@ -15,12 +15,12 @@ class GeneralizedRays {
  public:
   virtual ~GeneralizedRays() = default;
   /// trace_beams() (beam_tracer.h) over the structure.
-  virtual BeamResult trace_beams(const PixelRays& pixels, const BeamConfig& config) const = 0;
+  virtual BeamResult trace_beams(const PixelRays& pixels, const BeamOptions& config) const = 0;
   /// query_cone() (cone_query.h) over the structure.
-  virtual std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryConfig& config,
+  virtual std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryOptions& config,
                                           TraversalStats* stats = nullptr) const = 0;
   /// cone_visibility() (cone_query.h) over the structure.
-  virtual ConeVisibility cone_visibility(const Cone& cone, const ConeQueryConfig& config,
+  virtual ConeVisibility cone_visibility(const Cone& cone, const ConeQueryOptions& config,
                                          TraversalStats* stats = nullptr) const = 0;
 };
 

@@ -3,9 +3,12 @@
 // the BSP tree's convex cells (Ize, Wald & Parker 2008).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/vec3.h"
@@ -73,36 +76,51 @@ inline AABB widen_for_clipping(const AABB& box) {
   return out;
 }
 
-/// Bounds of the part of triangle (a, b, c) inside `box`, conservative: the triangle is clipped against the box
-/// widened by widen_for_clipping(), and the bounds of what is left are intersected with `box`. Empty when the
-/// triangle does not reach the box. A triangle that only touches the box yields a flat (non-empty) result.
-inline AABB clip_triangle_to_box(const Vec3& a, const Vec3& b, const Vec3& c, const AABB& box) {
+/// Room for a triangle clipped by a box's six planes (9 vertices) plus the one spare a clip step needs.
+using ClippedPolygon = std::array<Vec3, 10>;
+
+/// Clips triangle (a, b, c) to `box` widened by widen_for_clipping() and returns the vertex count of the polygon left
+/// in `out` (0 when the triangle misses the box): the points a volume is fitted to for one SBVH reference, and the
+/// part whose bounds clip_triangle_to_box() takes.
+inline int clip_triangle_polygon(const std::array<Vec3, 3>& triangle, const AABB& box, ClippedPolygon& out) {
   const AABB clip_box = widen_for_clipping(box);
-  Vec3 buffer[2][10];  // a triangle clipped by six planes has at most 9 vertices
-  buffer[0][0] = a;
-  buffer[0][1] = b;
-  buffer[0][2] = c;
-  int n = 3, current = 0;
+  ClippedPolygon scratch;
+  Vec3* current = out.data();
+  Vec3* other = scratch.data();
+  current[0] = triangle[0];
+  current[1] = triangle[1];
+  current[2] = triangle[2];
+  int n = 3;
   for (int axis = 0; axis < 3 && n > 0; ++axis) {
     // A plane with every vertex on its kept side leaves the polygon as it is: skip it (same result, less work).
     // Clipping at lo moves no vertex above hi, so both tests can be made before either clip.
     bool above_lo = true, below_hi = true;
     for (int i = 0; i < n; ++i) {
-      above_lo &= buffer[current][i][axis] >= clip_box.lo[axis];
-      below_hi &= buffer[current][i][axis] <= clip_box.hi[axis];
+      above_lo &= current[i][axis] >= clip_box.lo[axis];
+      below_hi &= current[i][axis] <= clip_box.hi[axis];
     }
     if (!above_lo) {
-      n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.lo[axis], false, buffer[1 - current]);
-      current = 1 - current;
+      n = clip_polygon_to_axis_plane(current, n, axis, clip_box.lo[axis], false, other);
+      std::swap(current, other);
       if (n == 0) break;
     }
     if (!below_hi) {
-      n = clip_polygon_to_axis_plane(buffer[current], n, axis, clip_box.hi[axis], true, buffer[1 - current]);
-      current = 1 - current;
+      n = clip_polygon_to_axis_plane(current, n, axis, clip_box.hi[axis], true, other);
+      std::swap(current, other);
     }
   }
+  if (current != out.data()) std::copy(current, current + n, out.data());
+  return n;
+}
+
+/// Bounds of the part of triangle (a, b, c) inside `box`, conservative: the triangle is clipped against the box
+/// widened by widen_for_clipping(), and the bounds of what is left are intersected with `box`. Empty when the
+/// triangle does not reach the box. A triangle that only touches the box yields a flat (non-empty) result.
+inline AABB clip_triangle_to_box(const Vec3& a, const Vec3& b, const Vec3& c, const AABB& box) {
+  ClippedPolygon polygon;
+  const int n = clip_triangle_polygon({a, b, c}, box, polygon);
   AABB bounds;
-  for (int i = 0; i < n; ++i) bounds.extend(buffer[current][i]);
+  for (int i = 0; i < n; ++i) bounds.extend(polygon[i]);
   bounds = intersection(bounds, box);
   return bounds.is_empty() ? AABB{} : bounds;
 }

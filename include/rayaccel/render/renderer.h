@@ -36,7 +36,7 @@ struct RenderSettings {
   std::optional<CostRange> heat_scale;
   /// Primary visibility by beams (generalized/beam_tracer.h) instead of one ray per pixel: the same hits, so the same
   /// image; normals and ao modes over bvh, bvh_wide and kdtree only (else Error).
-  std::optional<generalized::BeamConfig> beams;
+  std::optional<generalized::BeamOptions> beams;
   /// Called with the fraction done (0..1) as rows finish; may be empty.
   std::function<void(float)> progress;
 };

@@ -31,17 +31,25 @@ RAYACCEL_TARGET_AVX512 __attribute__((flatten)) void run_avx512(const Body& body
 }  // namespace detail
 
 /// Runs body.operator()<Lanes>() with Lanes = Sse4 for Isa::sse2 and Avx8 otherwise, compiled for `isa` (which the
-/// caller chose with best_isa(), so this CPU runs it; without RAYACCEL_AVX_KERNELS that is always sse2).
-template <class Body>
+/// caller chose with best_isa(Cap), so this CPU runs it; without RAYACCEL_AVX_KERNELS that is always sse2). `Cap` is
+/// the widest instruction set the caller ever picks: entry points above it are not instantiated (the kd-tree and the
+/// grid cap at AVX2, so no AVX-512 copy of their traversal is compiled into every binary); an isa above Cap runs at Cap.
+template <Isa Cap = Isa::avx512, class Body>
 inline void run_with_lanes(Isa isa, const Body& body) {
 #if RAYACCEL_AVX_KERNELS
   switch (isa) {
     case Isa::avx512:
-      detail::run_avx512(body);
-      return;
+      if constexpr (Cap == Isa::avx512) {
+        detail::run_avx512(body);
+        return;
+      }
+      [[fallthrough]];
     case Isa::avx2:
-      detail::run_avx2(body);
-      return;
+      if constexpr (Cap != Isa::sse2) {
+        detail::run_avx2(body);
+        return;
+      }
+      [[fallthrough]];
     case Isa::sse2:
       break;
   }

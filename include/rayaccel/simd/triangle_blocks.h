@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -28,16 +29,11 @@ inline void set_block_lane(Triangle4& block, int lane, const Scene& scene, std::
   }
 }
 
-/// True when lane `lane` of `block` holds an exact copy of its triangle in the scene (validation).
-inline bool block_lane_matches_scene(const Triangle4& block, int lane, const Scene& scene) {
-  const auto& tri = scene.triangle(block.prim_id[lane]);
-  for (int v = 0; v < 3; ++v) {
-    for (int a = 0; a < 3; ++a) {
-      if (block.vertex[v][a][lane] != tri[v][a]) return false;
-    }
-  }
-  return true;
-}
+/// Validation of a triangle mesh's Triangle4 copies, the check every structure with blocks makes: the id of the first
+/// lane of blocks (in order) whose vertices are not an exact copy of its triangle in `scene`; nullopt when all are.
+/// Unused lanes (kInvalidPrimId) and ids outside the scene are passed over (each structure reports those itself);
+/// nullopt for scenes that are not triangle meshes (their blocks hold only ids).
+std::optional<std::uint32_t> first_stale_lane(std::span<const Triangle4> blocks, const Scene& scene);
 
 /// Appends ceil(k / 4) blocks holding the k primitives of `ids`, in order; the last block's unused lanes hold
 /// kInvalidPrimId and a zero triangle. For a scene that is not a triangle mesh the blocks hold only the ids (zero

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/bvh/binned_sah_builder.h"
 #include "rayaccel/bvh/build_tree.h"
 #include "rayaccel/core/huge_page_allocator.h"
@@ -39,7 +40,7 @@ inline constexpr int kStackSize = 7 * kBvhMaxDepth + 8;
 /// cover both).
 enum class WideIsa { best, avx2 };
 
-struct WideBvhConfig {
+struct WideBvhOptions {
   /// Children per node: 4 (SSE2), 8 (AVX2), or 0 for the widest this CPU runs.
   int width = 0;
   /// Eight-wide kernels' instruction set: the best this CPU runs, or at most AVX2 (for testing that path).
@@ -48,7 +49,7 @@ struct WideBvhConfig {
   /// (four triangles are tested for the price of one, so the SAH charges 1 per started block of 4, as Embree's
   /// builders do): full blocks mean fewer leaves and nodes, so less memory and faster builds for the same rays per
   /// second (BENCHMARKS.md, "Option choices").
-  BinnedSahConfig binary{
+  BinnedSahOptions binary{
       .max_leaf_size = 8, .costs = {.traversal = 1.0f, .intersection = 1.0f}, .bin_count = 16, .block_size = 4};
   /// Triangle pre-splitting before the binary build (Karras & Aila 2013, see bvh/presplit.h): extra references as a
   /// fraction of the triangle count, 0..4; 0 builds over one reference per triangle. Ignored for other primitives.
@@ -65,9 +66,13 @@ struct WideBvhConfig {
 template <int W>
 using NodeArray = std::vector<Node<W>, HugePageAllocator<Node<W>>>;
 
+/// The wide BVH's options: key, member, range and doc of each (the registry's options, their parsing and checks).
+const OptionTable<WideBvhOptions>& wide_bvh_option_table();
+
 class WideBvh final : public AcceleratorImpl<WideBvh> {
  public:
-  explicit WideBvh(WideBvhConfig config = {}) : config_(config) {}
+  /// Throws Error naming the first option outside its range (wide_bvh_option_table()).
+  explicit WideBvh(WideBvhOptions config = {});
 
   void build(const Scene& scene) override;
   /// Builds from any binary builder's tree over the scene's primitives. A tree with spatial splits may reference a
@@ -140,7 +145,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet,
                                            const PreparedRay& ray, Hit& hit, Stats& stats) const;
 
-  WideBvhConfig config_;
+  WideBvhOptions config_;
   int width_ = 4;
   simd::Isa isa_ = simd::Isa::sse2;  ///< width 8: avx2 or avx512 (the AVX-512 build of the kernels); width 4: sse2
   const Scene* scene_ = nullptr;
