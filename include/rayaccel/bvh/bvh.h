@@ -3,6 +3,7 @@
 // nearer child first by entry distance, with a fixed-size stack bounded by the build-time depth limit.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -91,6 +92,10 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
       trace_nodes<AnyHit, true>(ray, hit, stats);
     }
   }
+
+  /// The queries beyond the first hit (bvh_queries.h; see detail::StructureWithQueries).
+  void find_crossings(HitList& list) const;
+  void find_closest_point(ClosestPointSearch& search) const;
 
   const BvhConfig& config() const { return config_; }
   const std::vector<Node>& nodes() const { return nodes_; }
@@ -202,4 +207,5 @@ void Bvh<BV>::trace_nodes(const PreparedRay& ray, Hit& hit, Stats& stats) const 
 // Member definitions of Bvh<BV>, one concern per header.
 #include "rayaccel/bvh/bvh_fit.h"
 #include "rayaccel/bvh/bvh_io.h"
+#include "rayaccel/bvh/bvh_queries.h"
 #include "rayaccel/bvh/bvh_validate.h"

@@ -1,0 +1,102 @@
+// The wide BVH's queries beyond the first hit: every leaf the ray's whole interval enters (all hits), and a
+// branch-and-bound closest-point search, nearer children first, that skips children whose box lies beyond the best
+// distance so far. Scalar walks over the SIMD layout: child boxes read back from the SoA node, triangles from the
+// Triangle4 blocks (pre-split triangles sit in several leaves; HitList and the strict closest test keep them once).
+#include "rayaccel/bvh/bvh.h"
+#include "rayaccel/geometry/ray_box.h"
+#include "rayaccel/wide/wide_bvh.h"
+
+namespace rayaccel::wide {
+
+template <class Query>
+void WideBvh::test_leaf(std::uint32_t ref, Query& query) const {
+  const std::uint32_t first = leaf_first_block(ref), end = first + leaf_block_count(ref);
+  for (std::uint32_t b = first; b < end; ++b) {
+    const Triangle4& block = blocks_[b];
+    for (int lane = 0; lane < 4; ++lane) {
+      if (block.prim_id[lane] == kInvalidPrimId) continue;
+      Vec3 v[3];
+      for (int k = 0; k < 3; ++k) {
+        v[k] = Vec3{block.vertex[k][0][lane], block.vertex[k][1][lane], block.vertex[k][2][lane]};
+      }
+      query.test(block.prim_id[lane], v[0], v[1], v[2]);
+    }
+  }
+}
+
+template <int W>
+void WideBvh::find_crossings_in(const NodeArray<W>& nodes, HitList& list) const {
+  const PreparedRay& ray = list.ray();
+  // Widened as the BVH's culling (bvh_cull_bound): every triangle whose computed t is within t_max is reached.
+  const float t_far = bvh_cull_bound(Hit::begin(ray).t);
+  std::uint32_t stack[kStackSize];
+  int top = 0;
+  stack[top++] = root_;
+  while (top > 0) {
+    const std::uint32_t ref = stack[--top];
+    if (ref & kLeafBit) {
+      test_leaf(ref, list);
+      continue;
+    }
+    const Node<W>& node = nodes[ref];
+    for (int lane = 0; lane < W; ++lane) {
+      if (node.child[lane] == kEmptyChild) continue;
+      if (intersect_box(ray, child_bounds(node, lane), ray.t_min, t_far)) stack[top++] = node.child[lane];
+    }
+  }
+}
+
+template <int W>
+void WideBvh::find_closest_point_in(const NodeArray<W>& nodes, ClosestPointSearch& search) const {
+  struct Entry {
+    std::uint32_t ref;
+    double bound;  ///< lower bound on the squared distance to anything below
+  };
+  Entry stack[kStackSize];
+  int top = 0;
+  stack[top++] = {root_, 0.0};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (!search.may_improve(e.bound)) continue;
+    if (e.ref & kLeafBit) {
+      test_leaf(e.ref, search);
+      continue;
+    }
+    const Node<W>& node = nodes[e.ref];
+    // The children near enough, pushed in place and sorted there farthest first (insertion sort: at most W), so the
+    // nearest is searched next and tightens the bound soonest.
+    Entry* met = stack + top;
+    int count = 0;
+    for (int lane = 0; lane < W; ++lane) {
+      if (node.child[lane] == kEmptyChild) continue;
+      const Entry child{node.child[lane], search.box_lower_bound(child_bounds(node, lane))};
+      if (!search.may_improve(child.bound)) continue;
+      int i = count++;
+      for (; i > 0 && met[i - 1].bound < child.bound; --i) met[i] = met[i - 1];
+      met[i] = child;
+    }
+    top += count;
+  }
+}
+
+void WideBvh::find_crossings(HitList& list) const {
+  if (root_ == kEmptyChild) return;
+  detail::require_triangle_scene(*scene_, "all-hits");
+  if (width_ == 8) {
+    find_crossings_in(nodes8_, list);
+  } else {
+    find_crossings_in(nodes4_, list);
+  }
+}
+
+void WideBvh::find_closest_point(ClosestPointSearch& search) const {
+  if (root_ == kEmptyChild) return;
+  detail::require_triangle_scene(*scene_, "closest-point");
+  if (width_ == 8) {
+    find_closest_point_in(nodes8_, search);
+  } else {
+    find_closest_point_in(nodes4_, search);
+  }
+}
+
+}  // namespace rayaccel::wide
