@@ -63,6 +63,11 @@ int run_query(const QueryArgs& args, bool threads_given) {
   if (!args.counts.empty()) check_output_path(args.counts, "count file");
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
+  auto accel = make_structure(spec, ThreadLimit::active());
+  if (args.mode != "winding" && !accel->supports_queries()) {
+    throw UsageError("'" + accel->spec() + "' does not answer " + args.mode +
+                     " queries; use brute_force, bvh[:...] or bvh_wide[:...]");
+  }
   const Scene scene = load_scene_checked(args.scene);
   std::vector<Ray> rays;
   std::vector<Vec3> points;
@@ -73,14 +78,9 @@ int run_query(const QueryArgs& args, bool threads_given) {
   }
   const std::size_t inputs = takes_rays(args.mode) ? rays.size() : points.size();
 
-  auto accel = make_structure(spec, ThreadLimit::active());
   const Stopwatch build_clock;
   if (args.mode != "winding") accel->build(scene);
   const double build_ms = build_clock.milliseconds();
-  if (args.mode != "winding" && !accel->supports_queries()) {
-    throw UsageError("'" + accel->spec() + "' does not answer " + args.mode +
-                     " queries; use brute_force, bvh[:...] or bvh_wide[:...]");
-  }
   if (scene.kind() != PrimitiveKind::triangles) {
     throw UsageError("query " + args.mode + " needs a triangle scene; '" + args.scene + "' holds " +
                      to_string(scene.kind()));

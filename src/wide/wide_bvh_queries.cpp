@@ -1,7 +1,8 @@
 // The wide BVH's queries beyond the first hit: every leaf the ray's whole interval enters (all hits), and a
 // branch-and-bound closest-point search, nearer children first, that skips children whose box lies beyond the best
-// distance so far. Scalar walks over the SIMD layout: child boxes read back from the SoA node, triangles from the
-// Triangle4 blocks (pre-split triangles sit in several leaves; HitList and the strict closest test keep them once).
+// distance so far. Child boxes are tested by the SIMD box kernel for all hits and read back from the SoA node for the
+// closest point; triangles are read from the Triangle4 blocks and tested one by one (pre-split triangles sit in
+// several leaves; HitList and the strict closest test keep them once).
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/geometry/ray_box.h"
 #include "rayaccel/wide/wide_bvh.h"
@@ -24,9 +25,11 @@ void WideBvh::test_leaf(std::uint32_t ref, Query& query) const {
   }
 }
 
-template <int W>
-void WideBvh::find_crossings_in(const NodeArray<W>& nodes, HitList& list) const {
+template <class Kernel>
+RAYACCEL_LANE_INLINE void WideBvh::find_crossings_in(const NodeArray<Kernel::kWidth>& nodes, HitList& list) const {
+  constexpr int W = Kernel::kWidth;
   const PreparedRay& ray = list.ray();
+  const typename Kernel::Packet box_packet = Kernel::prepare(ray);
   // Widened as the BVH's culling (bvh_cull_bound): every triangle whose computed t is within t_max is reached.
   const float t_far = bvh_cull_bound(Hit::begin(ray).t);
   std::uint32_t stack[kStackSize];
@@ -38,10 +41,9 @@ void WideBvh::find_crossings_in(const NodeArray<W>& nodes, HitList& list) const 
       test_leaf(ref, list);
       continue;
     }
-    const Node<W>& node = nodes[ref];
-    for (int lane = 0; lane < W; ++lane) {
-      if (node.child[lane] == kEmptyChild) continue;
-      if (intersect_box(ray, child_bounds(node, lane), ray.t_min, t_far)) stack[top++] = node.child[lane];
+    alignas(32) float entry[W];  // entry distances, which the box test writes and all hits do not use
+    for (int mask = Kernel::intersect(box_packet, nodes[ref], t_far, entry); mask; mask &= mask - 1) {
+      stack[top++] = nodes[ref].child[__builtin_ctz(static_cast<unsigned>(mask))];
     }
   }
 }
@@ -82,11 +84,14 @@ void WideBvh::find_closest_point_in(const NodeArray<W>& nodes, ClosestPointSearc
 void WideBvh::find_crossings(HitList& list) const {
   if (root_ == kEmptyChild) return;
   detail::require_triangle_scene(*scene_, "all-hits");
-  if (width_ == 8) {
-    find_crossings_in(nodes8_, list);
-  } else {
-    find_crossings_in(nodes4_, list);
-  }
+  // The children's boxes tested at once with the SIMD box kernel of the tree's width, as in trace().
+  simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+    if constexpr (Lanes::kWidth == 8) {
+      find_crossings_in<BoxKernel<Lanes>>(nodes8_, list);
+    } else {
+      find_crossings_in<BoxKernel<Lanes>>(nodes4_, list);
+    }
+  });
 }
 
 void WideBvh::find_closest_point(ClosestPointSearch& search) const {

@@ -12,24 +12,14 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/query/closed_mesh.h"
 #include "rayaccel/scene/builtin_scenes.h"
+#include "query_structures.h"
 #include "voxel_shape.h"
 
 namespace rayaccel {
 namespace {
 
 using conformance::Rng;
-
-/// Every spec of `rayaccel list --names` whose structure answers queries, built over `scene`.
-std::vector<std::unique_ptr<Accelerator>> query_structures(const Scene& scene) {
-  std::vector<std::unique_ptr<Accelerator>> out;
-  for (const std::string& spec : accelerator_variant_names()) {
-    auto accel = make_accelerator(spec);
-    if (!accel->supports_queries()) continue;
-    accel->build(scene);
-    out.push_back(std::move(accel));
-  }
-  return out;
-}
+using testing::query_structures;
 
 /// Rays through the voxel solid's grid points (vertices, edge midpoints, face centres and voxel centres: multiples of
 /// 1/2), along the axes, face diagonals, space diagonals and skew integer directions, from points on the same grid.

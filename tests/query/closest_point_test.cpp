@@ -13,12 +13,14 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/geometry/point_triangle.h"
 #include "rayaccel/scene/import.h"
+#include "query_structures.h"
 #include "voxel_shape.h"
 
 namespace rayaccel {
 namespace {
 
 using conformance::Rng;
+using testing::query_structures;
 
 struct D3 {
   double x, y, z;
@@ -84,17 +86,6 @@ TEST(PointTriangle, VerticesAndEdgePointsAreAtDistanceZero) {
   EXPECT_EQ(closest_point_on_triangle({2, 1, 1}, p, q, r).distance_squared, 0.0);  // an edge midpoint
   EXPECT_EQ(closest_point_on_triangle({2, 2, 5}, p, q, r).distance_squared, 16.0);  // above the hypotenuse
   EXPECT_EQ(closest_point_on_triangle({0, 0, 1}, p, q, r).distance_squared, 2.0);   // the vertex region of p
-}
-
-std::vector<std::unique_ptr<Accelerator>> query_structures(const Scene& scene) {
-  std::vector<std::unique_ptr<Accelerator>> out;
-  for (const std::string& spec : accelerator_variant_names()) {
-    auto accel = make_accelerator(spec);
-    if (!accel->supports_queries()) continue;
-    accel->build(scene);
-    out.push_back(std::move(accel));
-  }
-  return out;
 }
 
 /// Random points about the scene, every vertex, and points on triangles (barycentric combinations rounded to float).

@@ -111,8 +111,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::size_t leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
                        LeafIdCounts& dropped) const;
   void fill_leaves();
-  template <int W>
-  void find_crossings_in(const NodeArray<W>& nodes, HitList& list) const;
+  template <class Kernel>
+  RAYACCEL_LANE_INLINE void find_crossings_in(const NodeArray<Kernel::kWidth>& nodes, HitList& list) const;
   template <int W>
   void find_closest_point_in(const NodeArray<W>& nodes, ClosestPointSearch& search) const;
   /// Calls query.test() for every triangle of the leaf `ref`.
