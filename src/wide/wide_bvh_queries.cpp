@@ -9,18 +9,22 @@
 
 namespace rayaccel::wide {
 
+namespace {
+/// Calls query.test() for the triangle in lane `lane` of `block`.
+template <class Query>
+void test_lane(const Triangle4& block, int lane, Query& query) {
+  Vec3 v[3];
+  for (int k = 0; k < 3; ++k) v[k] = Vec3{block.vertex[k][0][lane], block.vertex[k][1][lane], block.vertex[k][2][lane]};
+  query.test(block.prim_id[lane], v[0], v[1], v[2]);
+}
+}  // namespace
+
 template <class Query>
 void WideBvh::test_leaf(std::uint32_t ref, Query& query) const {
   const std::uint32_t first = leaf_first_block(ref), end = first + leaf_block_count(ref);
   for (std::uint32_t b = first; b < end; ++b) {
-    const Triangle4& block = blocks_[b];
     for (int lane = 0; lane < 4; ++lane) {
-      if (block.prim_id[lane] == kInvalidPrimId) continue;
-      Vec3 v[3];
-      for (int k = 0; k < 3; ++k) {
-        v[k] = Vec3{block.vertex[k][0][lane], block.vertex[k][1][lane], block.vertex[k][2][lane]};
-      }
-      query.test(block.prim_id[lane], v[0], v[1], v[2]);
+      if (blocks_[b].prim_id[lane] != kInvalidPrimId) test_lane(blocks_[b], lane, query);
     }
   }
 }
@@ -32,13 +36,29 @@ RAYACCEL_LANE_INLINE void WideBvh::find_crossings_in(const NodeArray<Kernel::kWi
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
   // Widened as the BVH's culling (bvh_cull_bound): every triangle whose computed t is within t_max is reached.
   const float t_far = bvh_cull_bound(Hit::begin(ray).t);
+  // Leaves: the SIMD float path of the watertight test picks the lanes the scalar kernel may hit (bit-identical
+  // decisions, see simd/watertight_lanes.h); only those go to HitList, which tests them with the scalar kernel.
+  using Lanes = typename Kernel::Lanes;
+  constexpr std::uint32_t kBlocksPerTest = Lanes::kWidth / 4;
+  const simd::TrianglePacket<Lanes> triangle_packet(ray);
+  const float t_far_hit = Hit::begin(ray).t;
   std::uint32_t stack[kStackSize];
   int top = 0;
   stack[top++] = root_;
   while (top > 0) {
     const std::uint32_t ref = stack[--top];
     if (ref & kLeafBit) {
-      test_leaf(ref, list);
+      const std::uint32_t first = leaf_first_block(ref), end = first + leaf_block_count(ref);
+      for (std::uint32_t b = first; b < end; b += kBlocksPerTest) {
+        const bool odd = b + kBlocksPerTest > end;  // eight lanes over one last block: paired with itself
+        const Triangle4* group[2] = {&blocks_[b], &blocks_[odd ? b : b + kBlocksPerTest - 1]};
+        int mask = simd::candidate_triangle_lanes<Lanes>(triangle_packet, ray, group, t_far_hit);
+        if (odd) mask &= 0xF;
+        for (; mask; mask &= mask - 1) {
+          const int lane = __builtin_ctz(static_cast<unsigned>(mask));
+          test_lane(*group[lane / 4], lane % 4, list);
+        }
+      }
       continue;
     }
     alignas(32) float entry[W];  // entry distances, which the box test writes and all hits do not use
