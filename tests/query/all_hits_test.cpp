@@ -91,6 +91,38 @@ TEST(AllHits, VoxelSolidParityThroughVerticesEdgesAndFaces) {
   EXPECT_GT(merged, 1000u);
 }
 
+TEST(AllHits, ParityHoldsAMillionUnitsFromTheOrigin) {
+  // The voxel solid moved by 2^20 on every axis (still exact: its grid points need 22 bits), where a float's ulp is
+  // 1/8: the same rays through its vertices, edges and faces, moved with it, cross it as near the origin.
+  const float offset = 0x1p20f;
+  TriangleMesh mesh = testing::voxel_shape_mesh();
+  for (Vec3& v : mesh.vertices) v = v + Vec3{offset};
+  const Scene scene = Scene::from_mesh(mesh, "far voxels");
+  std::vector<std::unique_ptr<Accelerator>> structures;
+  for (const char* spec : {"brute_force", "bvh", "bvh_wide"}) {
+    structures.push_back(make_accelerator(spec));
+    structures.back()->build(scene);
+  }
+  std::vector<Hit> expected, got;
+  std::size_t checked = 0;
+  for (Ray ray : voxel_grid_rays()) {
+    const double fraction = testing::voxel_inside_fraction(ray.origin);
+    ray.origin = ray.origin + Vec3{offset};
+    const std::size_t count = structures[0]->all_hits(ray, expected);
+    if (fraction == 0.0 || fraction == 1.0) {
+      ++checked;
+      ASSERT_EQ(count % 2, fraction == 1.0 ? 1u : 0u)
+          << "origin (" << ray.origin.x << ", " << ray.origin.y << ", " << ray.origin.z << ")";
+    }
+    for (std::size_t s = 1; s < structures.size(); ++s) {
+      structures[s]->all_hits(ray, got);
+      expect_same_hits(expected, got, structures[s]->spec());
+    }
+    if (::testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(checked, 10000u);
+}
+
 TEST(AllHits, ClosedMeshesCrossedEvenlyThroughTheirVertices) {
   // Rays from outside through every vertex and edge midpoint: an even number of crossings each.
   const std::vector<std::pair<std::string, TriangleMesh>> meshes = {
