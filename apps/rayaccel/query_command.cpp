@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <string>
@@ -46,22 +47,41 @@ std::string mode_list() {
   return text;
 }
 
-int run_query(const QueryArgs& args, bool threads_given) {
+/// Which options were given on the command line (a flag of another query is an error, not ignored).
+struct GivenOptions {
+  bool threads = false, max_hits = false, max_distance = false, parity_rays = false;
+};
+
+/// Throws UsageError when `flag` was given for a query it does not apply to.
+void require_mode(const QueryArgs& args, bool given, const char* flag, std::initializer_list<const char*> modes) {
+  if (!given) return;
+  std::string names;
+  for (const char* mode : modes) {
+    if (args.mode == mode) return;
+    names += (names.empty() ? "" : " and ") + std::string(mode);
+  }
+  throw UsageError(std::string(flag) + " applies to the " + names + " query only, not to " + args.mode);
+}
+
+int run_query(const QueryArgs& args, const GivenOptions& given) {
   if (std::find(kModes.begin(), kModes.end(), args.mode) == kModes.end()) {
     throw UsageError("unknown query '" + args.mode + "' (known: " + mode_list() + ")");
   }
-  if (threads_given) require_range(args.threads, 1, 4096, "--threads");
+  require_mode(args, given.max_hits, "--max-hits", {"all-hits"});
+  require_mode(args, !args.counts.empty(), "--counts", {"all-hits"});
+  require_mode(args, given.max_distance, "--max-distance", {"closest"});
+  require_mode(args, given.parity_rays, "--parity-rays", {"inside", "signed-distance"});
+  if (given.threads) require_range(args.threads, 1, 4096, "--threads");
   require_range(args.repeat, 1, 1000000, "--repeat");
   require_range(args.max_hits, 0, std::numeric_limits<std::uint32_t>::max(), "--max-hits");
   require_range(args.parity_rays, 1, 7, "--parity-rays");
   if (args.parity_rays % 2 == 0) throw UsageError("--parity-rays " + std::to_string(args.parity_rays) + " must be odd");
   if (!(args.max_distance >= 0.0f)) throw UsageError("--max-distance must be >= 0");
-  if (!args.counts.empty() && args.mode != "all-hits") throw UsageError("--counts is written by the all-hits query only");
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
   if (!args.out.empty()) check_output_path(args.out, "query output file");
   if (!args.counts.empty()) check_output_path(args.counts, "count file");
-  const ThreadLimit limit(threads_given ? args.threads : 0);
+  const ThreadLimit limit(given.threads ? args.threads : 0);
 
   auto accel = make_structure(spec, ThreadLimit::active());
   if (args.mode != "winding" && !accel->supports_queries()) {
@@ -181,9 +201,12 @@ Command add_query_command(CLI::App& root) {
   app->add_option("--accel", args->accel,
                   "Structure spec: brute_force, bvh[:...] or bvh_wide[:...] (default " + default_accelerator_spec() +
                       "); winding sums over every triangle and builds nothing");
-  app->add_option("--max-hits", args->max_hits, "all-hits: crossings kept per ray, the nearest")->capture_default_str();
-  app->add_option("--max-distance", args->max_distance, "closest: search radius (default: unbounded)");
-  app->add_option("--parity-rays", args->parity_rays, "inside, signed-distance: rays per point (odd, 1..7)")
+  CLI::Option* max_hits =
+      app->add_option("--max-hits", args->max_hits, "all-hits: crossings kept per ray, the nearest")->capture_default_str();
+  CLI::Option* max_distance =
+      app->add_option("--max-distance", args->max_distance, "closest: search radius (default: unbounded)");
+  CLI::Option* parity_rays =
+      app->add_option("--parity-rays", args->parity_rays, "inside, signed-distance: rays per point (odd, 1..7)")
       ->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for build and queries (>= 1)");
   app->add_option("--repeat", args->repeat, "Timed passes over all inputs (median reported)")->capture_default_str();
@@ -192,7 +215,10 @@ Command add_query_command(CLI::App& root) {
                   "uint32 crossings per ray); count .counts; closest .closest (28 bytes: x y z distance prim u v); "
                   "inside 1 byte per point; winding float64 and signed-distance float32 per point");
   app->add_option("--counts", args->counts, "all-hits: uint32 crossings per ray (before --max-hits)");
-  return {app, [args, threads] { return run_query(*args, threads->count() > 0); }};
+  return {app, [args, threads, max_hits, max_distance, parity_rays] {
+            return run_query(*args, {threads->count() > 0, max_hits->count() > 0, max_distance->count() > 0,
+                                     parity_rays->count() > 0});
+          }};
 }
 
 }  // namespace rayaccel::cli

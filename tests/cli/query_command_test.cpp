@@ -79,6 +79,9 @@ TEST(CliQuery, BadModesStructuresAndFlagsAreUsageErrors) {
   result = run_cli({"query", "closest", kScene, points, "--counts", (dir / "c").string()});
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.err.find("--counts"), std::string::npos) << result.err;
+  result = run_cli({"query", "inside", kScene, points, "--max-distance", "2"});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--max-distance applies to the closest query only"), std::string::npos) << result.err;
   result = run_cli({"query", "closest", kScene, (dir / "missing.points").string()});
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.err.find("missing.points"), std::string::npos) << result.err;
