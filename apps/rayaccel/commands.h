@@ -18,5 +18,6 @@ Command add_info_command(CLI::App& root);
 Command add_trace_command(CLI::App& root);
 Command add_render_command(CLI::App& root);
 Command add_bench_command(CLI::App& root);
+Command add_query_command(CLI::App& root);
 
 }  // namespace rayaccel::cli

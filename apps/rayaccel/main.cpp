@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("rayaccel ") + RAYACCEL_VERSION_STRING);
   const std::vector<Command> commands = {add_list_command(app), add_info_command(app), add_trace_command(app),
-                                         add_render_command(app), add_bench_command(app)};
+                                         add_render_command(app), add_bench_command(app),
+                                         add_query_command(app)};
   if (argc > 1 && argv[1][0] != '-') {
     bool known = false;
     std::string names;

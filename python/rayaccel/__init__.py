@@ -4,6 +4,9 @@
     accel = rayaccel.build(scene, "bvh_wide")       # any spec of rayaccel.specs()
     hits = accel.intersect(origins, directions)     # hits.t, hits.prim_id, hits.u, hits.v
     blocked = accel.occluded(rays)                  # bool array
+    counts, hits = accel.all_hits(rays)             # every surface crossing along each ray
+    closest = accel.closest_points(points)          # closest point, triangle, barycentrics, distance
+    inside = accel.inside(points)                   # crossing-parity inside test (closed meshes)
 
 Batches run in C++ without the GIL on TBB's threads (rayaccel.set_threads(n) limits them). rayaccel.dask traces
 dask arrays of rays on any Dask scheduler (imported on first use; needs dask). Scenes copy the arrays
@@ -19,9 +22,32 @@ from ._core import Scene, __version__, packet_tile_order, set_threads, specs, th
 from ._rays import HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
-__all__ = ["Accelerator", "Camera", "HIT_DTYPE", "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build",
+__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "HIT_DTYPE", "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build",
            "builtin", "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "packet_tile_order", "render",
-           "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads"]
+           "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads", "winding_numbers"]
+
+#: One closest-point record, the 28-byte layout of the CLI's .closest file (prim_id = MISS: nothing within reach).
+CLOSEST_DTYPE = np.dtype([("point", "<f4", (3,)), ("distance", "<f4"), ("prim_id", "<u4"), ("u", "<f4"),
+                          ("v", "<f4")])
+
+
+def _points(points):
+    """(flat (N, 3) float32 array, leading shape) from a (..., 3) float32/float64 array."""
+    if not isinstance(points, np.ndarray):
+        raise TypeError(f"points must be a numpy array of shape (..., 3), not {type(points).__name__}")
+    if points.dtype not in (np.float32, np.float64):
+        raise TypeError(f"points must be float32 or float64, not {points.dtype}")
+    if points.ndim < 1 or points.shape[-1] != 3:
+        raise ValueError(f"points must have shape (..., 3), not {points.shape}")
+    return np.ascontiguousarray(points.reshape(-1, 3), dtype=np.float32), points.shape[:-1]
+
+
+def winding_numbers(scene, points):
+    """Generalised winding numbers (Jacobson et al. 2013) of (..., 3) points with respect to a triangle scene,
+    float64 shaped like the points: 1 inside a closed outward-oriented mesh, 0 outside, 1/2 on its surface, smooth
+    in between where the mesh has holes. A direct sum over every triangle (O(triangles) per point)."""
+    flat, shape = _points(points)
+    return _core._winding_numbers(scene, flat).reshape(shape)
 
 
 def __getattr__(name):
@@ -133,6 +159,45 @@ class Accelerator(_core._Accelerator):
         answers, counts = self._occluded(flat, bool(stats), bool(check))
         answers = answers.reshape(shape)
         return (answers, TraversalStats(counts, shape)) if stats else answers
+
+
+    def all_hits(self, rays, directions=None, t_min=None, t_max=None, *, max_hits=2**32 - 1, check=True):
+        """Every surface crossing with t_min < t <= t_max (brute_force, bvh and bvh_wide structures; triangle scenes).
+
+        Returns (counts, hits): counts (uint32, shaped like the rays) is each ray's number of crossings before the
+        cap, hits a HIT_DTYPE array of the kept ones (the max_hits nearest of each ray), ray after ray, each ray's
+        sorted by t; ray i's are hits[offsets[i]:offsets[i + 1]] with offsets = cumsum of min(counts, max_hits).
+        A ray through an edge or vertex crosses there once, so a ray from outside to outside crosses a closed mesh
+        an even number of times."""
+        flat, shape = as_rays(rays, directions, t_min, t_max)
+        if int(max_hits) < 0:
+            raise ValueError(f"max_hits must be >= 0, not {max_hits}")
+        counts, records = self._all_hits(flat, int(max_hits), bool(check))
+        return counts.reshape(shape), records.reshape(-1).view(HIT_DTYPE)
+
+    def count_hits(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
+        """The number of surface crossings of each ray (all_hits() without the hits), uint32 shaped like the rays."""
+        flat, shape = as_rays(rays, directions, t_min, t_max)
+        return self._count_hits(flat, bool(check)).reshape(shape)
+
+    def closest_points(self, points, max_distance=np.inf):
+        """The closest point of the scene to each of (..., 3) points within max_distance: a CLOSEST_DTYPE array
+        shaped like the points (point, distance, prim_id, u, v; prim_id = MISS and distance = inf when nothing is
+        within reach). Branch and bound over the structure; the same distances as brute force, bit for bit."""
+        flat, shape = _points(points)
+        return self._closest_points(flat, float(max_distance)).reshape(-1).view(CLOSEST_DTYPE).reshape(shape)
+
+    def inside(self, points, ray_count=3):
+        """Crossing-parity inside test of (..., 3) points (majority of ray_count rays, odd, 1..7): bool shaped like
+        the points. Exact for closed meshes off their surface; see winding_numbers() for open ones."""
+        flat, shape = _points(points)
+        return self._inside(flat, int(ray_count)).reshape(shape)
+
+    def signed_distance(self, points, ray_count=3):
+        """Distance to the scene of (..., 3) points, negative inside (inside() decides): float32 shaped like the
+        points. Meant for closed meshes."""
+        flat, shape = _points(points)
+        return self._signed_distance(flat, int(ray_count)).reshape(shape)
 
 
 def build(scene, spec="bvh_wide"):

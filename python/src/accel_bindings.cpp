@@ -18,6 +18,8 @@
 #include "bindings.h"
 #include "rayaccel/render/shading.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/query/inside.h"
+#include "rayaccel/query/signed_distance.h"
 #include "rayaccel/render/workloads.h"
 
 namespace rayaccel::python {
@@ -31,6 +33,12 @@ std::span<TraversalStats> statistics_array(std::size_t n, py::object& array) {
   std::fill_n(s.mutable_data(), s.size(), std::uint64_t{0});
   array = s;
   return {reinterpret_cast<TraversalStats*>(s.mutable_data()), n};
+}
+
+/// Points of an (N, 3) float32 C-contiguous array, viewed in place.
+std::span<const Vec3> point_view(const FloatRows& points) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(float));
+  return {reinterpret_cast<const Vec3*>(points.data()), static_cast<std::size_t>(points.shape(0))};
 }
 
 /// One structure, built over one scene that it keeps alive. Queries take a shared lock and build() an exclusive
@@ -181,6 +189,93 @@ class PyAccelerator {
     return py::make_tuple(points, normals);
   }
 
+  /// Every crossing of each ray: (counts (N,) uint32 before the cap, records (M, 16) uint8 in the .hits layout, the
+  /// kept crossings ray after ray, each ray's by t).
+  py::tuple all_hits(const py::handle& rays_object, std::uint64_t max_hits, bool check) const {
+    const auto rays_array = float_rows(rays_object, 8, "rays");
+    const std::span<const Ray> rays = ray_view(rays_array);
+    py::array_t<std::uint32_t> counts(static_cast<py::ssize_t>(rays.size()));
+    std::vector<std::vector<Hit>> per_ray(rays.size());
+    std::uint32_t* count = counts.mutable_data();
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      const Accelerator& accel = require_queries();
+      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
+        detail::parallel_for_rays(end - begin, [&](std::size_t b, std::size_t e) {
+          for (std::size_t i = begin + b; i < begin + e; ++i) {
+            count[i] = static_cast<std::uint32_t>(accel.all_hits(rays[i], per_ray[i], max_hits));
+          }
+        });
+      });
+    }
+    std::size_t total = 0;
+    for (const auto& h : per_ray) total += h.size();
+    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(total), py::ssize_t{16}});
+    Hit* out = reinterpret_cast<Hit*>(records.mutable_data());
+    for (const auto& h : per_ray) out = std::copy(h.begin(), h.end(), out);
+    return py::make_tuple(counts, records);
+  }
+
+  /// Crossings per ray, (N,) uint32.
+  py::array_t<std::uint32_t> count_hits(const py::handle& rays_object, bool check) const {
+    const auto rays_array = float_rows(rays_object, 8, "rays");
+    const std::span<const Ray> rays = ray_view(rays_array);
+    py::array_t<std::uint32_t> counts(static_cast<py::ssize_t>(rays.size()));
+    const std::span<std::uint32_t> out(counts.mutable_data(), rays.size());
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      const Accelerator& accel = require_queries();
+      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
+        accel.count_hits(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
+      });
+    }
+    return counts;
+  }
+
+  /// Closest points: (N, 28) uint8 records in the .closest layout.
+  py::array_t<std::uint8_t> closest_points(const py::handle& points_object, float max_distance) const {
+    const auto points_array = float_rows(points_object, 3, "points");
+    const std::span<const Vec3> points = point_view(points_array);
+    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(points.size()), py::ssize_t{28}});
+    const std::span<ClosestPoint> out(reinterpret_cast<ClosestPoint*>(records.mutable_data()), points.size());
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      require_queries().closest_points(points, out, max_distance);
+    }
+    return records;
+  }
+
+  /// Crossing-parity inside test, (N,) bool.
+  py::array_t<bool> inside(const py::handle& points_object, int ray_count) const {
+    const auto points_array = float_rows(points_object, 3, "points");
+    const std::span<const Vec3> points = point_view(points_array);
+    py::array_t<bool> answers(static_cast<py::ssize_t>(points.size()));
+    const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), points.size());
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      inside_by_parity(require_queries(), points, out, {.ray_count = ray_count});
+    }
+    return answers;
+  }
+
+  /// Signed distances, (N,) float32 (negative inside).
+  py::array_t<float> signed_distance(const py::handle& points_object, int ray_count) const {
+    const auto points_array = float_rows(points_object, 3, "points");
+    const std::span<const Vec3> points = point_view(points_array);
+    py::array_t<float> distances(static_cast<py::ssize_t>(points.size()));
+    const std::span<float> out(distances.mutable_data(), points.size());
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      signed_distances(require_queries(), points, out, {}, {.ray_count = ray_count});
+    }
+    return distances;
+  }
+
   /// An image through the library's renderer, (height, width, 3) uint8.
   py::array_t<std::uint8_t> render(const RenderRequest& request) const {
     Image image;
@@ -196,6 +291,15 @@ class PyAccelerator {
   const Accelerator& require_built() const {
     if (!scene_) throw ValueError("accelerator '" + accel_->spec() + "' is not built: call build(scene) first");
     return *accel_;
+  }
+  /// A built structure that answers all-hits and closest-point queries (ValueError naming it otherwise).
+  const Accelerator& require_queries() const {
+    const Accelerator& accel = require_built();
+    if (!accel.supports_queries()) {
+      throw ValueError("'" + accel.spec() + "' does not answer all-hits, closest-point or inside queries; build "
+                       "brute_force, bvh[:...] or bvh_wide[:...]");
+    }
+    return accel;
   }
 
   std::unique_ptr<Accelerator> accel_;
@@ -238,12 +342,29 @@ void bind_accelerator(py::module_& m) {
            py::arg("check"), py::arg("out"))
       .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("check"))
       .def("_surface", &PyAccelerator::surface, py::arg("rays"), py::arg("records"))
+      .def("_all_hits", &PyAccelerator::all_hits, py::arg("rays"), py::arg("max_hits"), py::arg("check"))
+      .def("_count_hits", &PyAccelerator::count_hits, py::arg("rays"), py::arg("check"))
+      .def("_closest_points", &PyAccelerator::closest_points, py::arg("points"), py::arg("max_distance"))
+      .def("_inside", &PyAccelerator::inside, py::arg("points"), py::arg("ray_count"))
+      .def("_signed_distance", &PyAccelerator::signed_distance, py::arg("points"), py::arg("ray_count"))
       .def("_render", [](const PyAccelerator& self, const std::array<float, 3>& eye, const std::array<float, 3>& at,
                          const std::array<float, 3>& up, float fov, int width, int height, const std::string& mode,
                          int ao_samples, float ao_distance, std::uint64_t seed) {
         return self.render({eye, at, up, fov, width, height, mode, ao_samples, ao_distance, seed});
       });
   m.def("_structures", &structures);
+  m.def("_winding_numbers", [](const std::shared_ptr<Scene>& scene, const py::handle& points_object) {
+    if (!scene) throw TypeError("winding_numbers() needs a rayaccel.Scene, not None");
+    const auto points_array = float_rows(points_object, 3, "points");
+    const std::span<const Vec3> points = point_view(points_array);
+    py::array_t<double> winding(static_cast<py::ssize_t>(points.size()));
+    const std::span<double> out(winding.mutable_data(), points.size());
+    {
+      py::gil_scoped_release release;
+      winding_numbers(*scene, points, out);
+    }
+    return winding;
+  });
   m.def("specs", &accelerator_variant_names,
         "Every spec `rayaccel list --names` prints, in registry order (each one accepted by build()).");
 }

@@ -1,4 +1,4 @@
-// Batch splitting shared by every accelerator.
+// Batch splitting shared by every accelerator, and the queries beyond the first hit where a structure has none.
 #include "rayaccel/accel/accelerator.h"
 
 #include <tbb/blocked_range.h>
@@ -6,11 +6,70 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <string>
 
 #include "rayaccel/core/error.h"
 
+namespace rayaccel {
+
+namespace {
+[[noreturn]] void unsupported(const Accelerator& accel, const char* query) {
+  throw Error(std::string(query) + " queries are not supported by '" + accel.spec() +
+              "' (supported by brute_force, bvh and bvh_wide: their traversals enumerate every candidate)");
+}
+}  // namespace
+
+std::size_t Accelerator::all_hits(const Ray&, std::vector<Hit>&, std::size_t) const { unsupported(*this, "all-hits"); }
+std::size_t Accelerator::count_hits(const Ray&) const { unsupported(*this, "hit-count"); }
+ClosestPoint Accelerator::closest_point(const Vec3&, float) const { unsupported(*this, "closest-point"); }
+
+void Accelerator::count_hits(std::span<const Ray> rays, std::span<std::uint32_t> counts) const {
+  detail::check_batch_sizes(rays.size(), counts.size(), 0);
+  if (!supports_queries()) unsupported(*this, "hit-count");
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) counts[i] = static_cast<std::uint32_t>(count_hits(rays[i]));
+  });
+}
+
+void Accelerator::closest_points(std::span<const Vec3> points, std::span<ClosestPoint> out, float max_distance) const {
+  detail::check_batch_sizes(points.size(), out.size(), 0);
+  if (!supports_queries()) unsupported(*this, "closest-point");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    try {
+      detail::check_point_query(points[i], max_distance);
+    } catch (const Error& e) {
+      throw Error(std::string(e.what()) + " (point " + std::to_string(i) + " of the batch)");
+    }
+  }
+  detail::parallel_for_rays(points.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) out[i] = closest_point(points[i], max_distance);
+  });
+}
+
+}  // namespace rayaccel
+
 namespace rayaccel::detail {
+
+void check_point_query(const Vec3& point, float max_distance) {
+  if (!is_finite(point)) {
+    std::ostringstream text;
+    text << "closest point: the query point (" << point.x << ", " << point.y << ", " << point.z
+         << ") is not finite";
+    throw Error(text.str());
+  }
+  if (!(max_distance >= 0.0f)) {
+    throw Error("closest point: max_distance " + std::to_string(max_distance) + " must be >= 0 (and not NaN)");
+  }
+}
+
+void require_triangle_scene(const Scene& scene, const char* query) {
+  if (scene.kind() != PrimitiveKind::triangles) {
+    throw Error(std::string(query) + " queries need a triangle scene; '" + scene.name() + "' holds " +
+                to_string(scene.kind()));
+  }
+}
 
 void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
   constexpr std::size_t kGrain = 64;  // rays per task: enough to hide scheduling, small enough to balance

@@ -1,4 +1,4 @@
-// The raw little-endian .rays / .hits / .occ exchange files: every record is a sequence of 4-byte words (or bytes),
+// The raw little-endian .rays / .hits / .occ / .points / .closest / .counts exchange files: every record is a sequence of 4-byte words (or bytes),
 // copied as is on little-endian hosts and byte-swapped per word elsewhere.
 #include "rayaccel/scene/ray_io.h"
 
@@ -21,6 +21,7 @@ namespace rayaccel {
 namespace {
 
 static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559, "the files hold IEEE-754 float32");
+static_assert(sizeof(Vec3) == 12, "a .points record is three float32");
 
 std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 
@@ -114,6 +115,24 @@ std::vector<std::uint8_t> read_occlusion(const std::filesystem::path& path) {
 
 void write_occlusion(const std::filesystem::path& path, std::span<const std::uint8_t> occluded) {
   write_records<std::uint8_t>(path, occluded, "occlusion");
+}
+
+std::vector<Vec3> read_points(const std::filesystem::path& path) { return read_records<Vec3>(path, "point"); }
+
+void write_points(const std::filesystem::path& path, std::span<const Vec3> points) {
+  write_records<Vec3>(path, points, "point");
+}
+
+std::vector<ClosestPoint> read_closest_points(const std::filesystem::path& path) {
+  return read_records<ClosestPoint>(path, "closest-point");
+}
+
+void write_closest_points(const std::filesystem::path& path, std::span<const ClosestPoint> points) {
+  write_records<ClosestPoint>(path, points, "closest-point");
+}
+
+void write_counts(const std::filesystem::path& path, std::span<const std::uint32_t> counts) {
+  write_records<std::uint32_t>(path, counts, "count");
 }
 
 }  // namespace rayaccel

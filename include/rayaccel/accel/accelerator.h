@@ -1,16 +1,20 @@
 // Accelerator: the one runtime interface over every structure (closest hit, any hit, parallel batches, memory,
 // statistics, validation), and AcceleratorImpl, which derives all of it from a structure's single templated
-// traversal so there is one indirect call per ray or per batch and none per node.
+// traversal so there is one indirect call per ray or per batch and none per node; the queries beyond the first hit
+// (every crossing along a ray, the closest point to a point) come from two more members a structure may have.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "rayaccel/accel/closest_point_search.h"
+#include "rayaccel/accel/hit_list.h"
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/scene/scene.h"
@@ -55,6 +59,31 @@ class Accelerator {
   /// speed), and every answer is a closest hit, as from intersect() (a tie in t may name another primitive).
   virtual void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const { intersect(rays, hits); }
 
+  // Queries beyond the first hit, on triangle scenes, for the structures whose traversal can enumerate every
+  // candidate of a ray or search near a point (supports_queries(): brute force, the BVH family, bvh_wide). The others,
+  // and scenes of spheres or user primitives, throw Error naming the structure or the scene kind.
+
+  /// True when all_hits(), count_hits() and closest_point() are implemented (for triangle scenes).
+  virtual bool supports_queries() const { return false; }
+  /// Every crossing of the surface with ray.t_min < t <= ray.t_max, sorted by t (equal t: by primitive id), the
+  /// `max_hits` nearest written to `hits` (resized to them). A ray through an edge or vertex of a closed mesh crosses
+  /// it there once (geometry/crossing.h: one of the triangles met there counts, by simulation of simplicity), or,
+  /// touching it without crossing, zero or two times; so a ray from outside to outside always crosses a closed mesh an
+  /// even number of times. Every hit is exactly the one intersect() would report for its triangle alone. Returns the
+  /// number of crossings (before trimming to max_hits). A void ray (see PreparedRay) has none.
+  virtual std::size_t all_hits(const Ray& ray, std::vector<Hit>& hits,
+                               std::size_t max_hits = std::numeric_limits<std::size_t>::max()) const;
+  /// all_hits() without the hits: the number of crossings.
+  virtual std::size_t count_hits(const Ray& ray) const;
+  /// The closest point of the scene to `point` within `max_distance` (branch and bound over the structure). Throws
+  /// Error for a non-finite point or a max_distance that is NaN or negative.
+  virtual ClosestPoint closest_point(const Vec3& point,
+                                     float max_distance = std::numeric_limits<float>::infinity()) const;
+  /// Parallel batches of count_hits() and closest_point(); sizes must match (Error otherwise).
+  void count_hits(std::span<const Ray> rays, std::span<std::uint32_t> counts) const;
+  void closest_points(std::span<const Vec3> points, std::span<ClosestPoint> out,
+                      float max_distance = std::numeric_limits<float>::infinity()) const;
+
   /// Bytes of the structure's own data (the scene's arrays are not counted).
   virtual std::size_t memory_bytes() const = 0;
   /// Bytes of input that queries read besides memory_bytes(), for `scene` (the one built over): the Scene's
@@ -69,6 +98,32 @@ class Accelerator {
  private:
   std::string spec_;
 };
+
+namespace detail {
+/// Runs body(begin, end) over [0, count) in parallel chunks (TBB), every chunk in the calling thread's floating-point
+/// environment (see accelerator.cpp); the one place batches are split.
+void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
+/// Rays per packet of intersect_packets().
+inline constexpr std::size_t kPacketSize = 8;
+/// parallel_for_rays() for intersect_packets(): body(begin, end) gets ray ranges that start at a multiple of
+/// kPacketSize and end at one or at `count`, so no packet is split between chunks.
+void parallel_for_packets(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
+void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);
+/// Throws Error unless `point` is finite and max_distance >= 0 (naming the bad value).
+void check_point_query(const Vec3& point, float max_distance);
+/// Throws Error, naming `query` and the scene's kind, unless `scene` is a triangle scene.
+void require_triangle_scene(const Scene& scene, const char* query);
+
+/// A structure that answers the queries beyond the first hit, with the members
+///   void find_crossings(HitList& list) const;              // list.test() every triangle the ray may cross
+///   void find_closest_point(ClosestPointSearch& s) const;  // branch and bound: s.test() the triangles near enough
+/// (each throws Error, through require_triangle_scene, for a scene that is not made of triangles).
+template <class S>
+concept StructureWithQueries = requires(const S& s, HitList& list, ClosestPointSearch& search) {
+  s.find_crossings(list);
+  s.find_closest_point(search);
+};
+}  // namespace detail
 
 /// Implements the Accelerator interface from one member of Derived:
 ///   template <bool AnyHit, class Stats> void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const;
@@ -92,6 +147,34 @@ class AcceleratorImpl : public Accelerator {
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                 std::span<TraversalStats> stats = {}) const final;
 
+  // The queries beyond the first hit, for a Derived with the members of detail::StructureWithQueries.
+  using Accelerator::count_hits;  // the batch form, which this class's count_hits(ray) would hide
+  bool supports_queries() const final { return detail::StructureWithQueries<Derived>; }
+  std::size_t all_hits(const Ray& ray, std::vector<Hit>& hits, std::size_t max_hits) const final {
+    if constexpr (detail::StructureWithQueries<Derived>) {
+      const PreparedRay prepared(ray);
+      HitList list(prepared, hits);
+      if (!prepared.is_void()) static_cast<const Derived*>(this)->find_crossings(list);
+      return list.finish(max_hits);
+    } else {
+      return Accelerator::all_hits(ray, hits, max_hits);
+    }
+  }
+  std::size_t count_hits(const Ray& ray) const final {
+    thread_local std::vector<Hit> scratch;
+    return all_hits(ray, scratch, 0);
+  }
+  ClosestPoint closest_point(const Vec3& point, float max_distance) const final {
+    if constexpr (detail::StructureWithQueries<Derived>) {
+      detail::check_point_query(point, max_distance);
+      ClosestPointSearch search(point, max_distance);
+      static_cast<const Derived*>(this)->find_closest_point(search);
+      return search.result();
+    } else {
+      return Accelerator::closest_point(point, max_distance);
+    }
+  }
+
  private:
   template <bool AnyHit, class Stats>
   Hit trace_one(const Ray& ray, Stats& stats) const {
@@ -103,17 +186,6 @@ class AcceleratorImpl : public Accelerator {
   }
 };
 
-namespace detail {
-/// Runs body(begin, end) over [0, count) in parallel chunks (TBB), every chunk in the calling thread's floating-point
-/// environment (see accelerator.cpp); the one place batches are split.
-void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
-/// Rays per packet of intersect_packets().
-inline constexpr std::size_t kPacketSize = 8;
-/// parallel_for_rays() for intersect_packets(): body(begin, end) gets ray ranges that start at a multiple of
-/// kPacketSize and end at one or at `count`, so no packet is split between chunks.
-void parallel_for_packets(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
-void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);
-}  // namespace detail
 
 template <class Derived>
 void AcceleratorImpl<Derived>::intersect(std::span<const Ray> rays, std::span<Hit> hits,

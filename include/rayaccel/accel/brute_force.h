@@ -1,6 +1,7 @@
 // Brute force: tests every primitive. The oracle every other structure is checked against.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,7 +25,21 @@ class BruteForce final : public AcceleratorImpl<BruteForce> {
     }
   }
 
+  /// The queries beyond the first hit (see detail::StructureWithQueries): every valid triangle is a candidate.
+  void find_crossings(HitList& list) const { for_each_triangle("all-hits", list); }
+  void find_closest_point(ClosestPointSearch& search) const { for_each_triangle("closest-point", search); }
+
  private:
+  template <class Query>
+  void for_each_triangle(const char* name, Query& query) const {
+    if (!scene_) return;
+    detail::require_triangle_scene(*scene_, name);
+    for (std::uint32_t id : prim_ids_) {
+      const std::array<Vec3, 3> t = scene_->triangle(id);
+      query.test(id, t[0], t[1], t[2]);
+    }
+  }
+
   const Scene* scene_ = nullptr;
   std::vector<std::uint32_t> prim_ids_;  ///< valid primitives in id order (lowest id wins a tie in t)
 };

@@ -3,6 +3,7 @@
 // nearer child first by entry distance, with a fixed-size stack bounded by the build-time depth limit.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -99,6 +100,10 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
       trace_nodes<AnyHit, true>(start, ray, hit, stats);
     }
   }
+
+  /// The queries beyond the first hit (bvh_queries.h; see detail::StructureWithQueries).
+  void find_crossings(HitList& list) const;
+  void find_closest_point(ClosestPointSearch& search) const;
 
   const BvhOptions& options() const { return config_; }
   const std::vector<Node>& nodes() const { return nodes_; }
@@ -212,4 +217,5 @@ void Bvh<BV>::trace_nodes(std::uint32_t start, const PreparedRay& ray, Hit& hit,
 // Member definitions of Bvh<BV>, one concern per header.
 #include "rayaccel/bvh/bvh_fit.h"
 #include "rayaccel/bvh/bvh_io.h"
+#include "rayaccel/bvh/bvh_queries.h"
 #include "rayaccel/bvh/bvh_validate.h"

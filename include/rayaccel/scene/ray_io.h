@@ -2,6 +2,10 @@
 //   .rays  32 bytes per ray: float32 ox oy oz tmin dx dy dz tmax
 //   .hits  16 bytes per ray: float32 t, uint32 prim_id, float32 u, float32 v (miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
 //   .occ   1 byte per ray: 1 occluded, 0 not
+//   .points   12 bytes per point: float32 x y z (query points of closest-point and inside queries)
+//   .closest  28 bytes per point: float32 x y z distance, uint32 prim_id, float32 u v (the ClosestPoint record;
+//             nothing found: distance=+inf, prim=0xFFFFFFFF, the rest 0)
+//   .counts   4 bytes per ray: uint32 (crossings per ray of an all-hits query)
 #pragma once
 
 #include <cstdint>
@@ -9,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "rayaccel/core/closest_point.h"
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
 
@@ -26,5 +31,12 @@ void write_hits(const std::filesystem::path& path, std::span<const Hit> hits);
 /// Throws Error naming the file when it cannot be read or holds a byte other than 0 or 1.
 std::vector<std::uint8_t> read_occlusion(const std::filesystem::path& path);
 void write_occlusion(const std::filesystem::path& path, std::span<const std::uint8_t> occluded);
+/// Throws Error naming the file when it cannot be read or its size is not a multiple of 12 bytes (values as stored).
+std::vector<Vec3> read_points(const std::filesystem::path& path);
+void write_points(const std::filesystem::path& path, std::span<const Vec3> points);
+/// Throws Error naming the file when it cannot be read or its size is not a multiple of 28 bytes.
+std::vector<ClosestPoint> read_closest_points(const std::filesystem::path& path);
+void write_closest_points(const std::filesystem::path& path, std::span<const ClosestPoint> points);
+void write_counts(const std::filesystem::path& path, std::span<const std::uint32_t> counts);
 
 }  // namespace rayaccel

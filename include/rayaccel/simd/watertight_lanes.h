@@ -125,13 +125,12 @@ struct WatertightLanes {
   }
 };
 
-/// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
-/// Returns true on any update. Lanes the float path cannot decide go to the scalar kernel (see WatertightLanes).
+/// The float path of the watertight test over the S::kWidth triangles of blocks[0 .. S::kWidth / 4) with the exclusive
+/// far bound t_far (WatertightLanes::test: false when every lane surely misses).
 template <class S>
-RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
-                                                   const Triangle4* const* blocks, Hit& hit) {
+RAYACCEL_LANE_INLINE bool test_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
+                                              const Triangle4* const* blocks, float t_far, WatertightLanes<S>& lanes) {
   using F = typename S::F;
-  constexpr int W = S::kWidth;
   const int k[3] = {scalar_ray.kx, scalar_ray.ky, scalar_ray.kz};
   F px[3], py[3], pz[3];  // vertices relative to the origin, sheared: x, y; and the kz component
   for (int v = 0; v < 3; ++v) {
@@ -142,12 +141,28 @@ RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray,
     py[v] = S::sub(ay, S::mul(ray.shear_y, az));
     pz[v] = az;
   }
+  return lanes.test(px, py, pz, ray.shear_error_x, ray.shear_error_y, ray.shear_z, ray.t_min, S::set1(t_far),
+                    S::padding(blocks));
+}
+
+/// The lanes of blocks[0 .. S::kWidth / 4) whose triangle intersect_triangle() may hit with t in (t_min, t_far): those
+/// the float path hits and those it leaves to the scalar kernel. Every other lane is a miss of the scalar kernel.
+template <class S>
+RAYACCEL_LANE_INLINE int candidate_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
+                                                  const Triangle4* const* blocks, float t_far) {
   WatertightLanes<S> lanes;
-  const F t_far = S::set1(hit.t);
-  const F padding = S::padding(blocks);
-  if (!lanes.test(px, py, pz, ray.shear_error_x, ray.shear_error_y, ray.shear_z, ray.t_min, t_far, padding)) {
-    return false;
-  }
+  if (!test_triangle_lanes(ray, scalar_ray, blocks, t_far, lanes)) return 0;
+  return lanes.hits | lanes.on_edge;
+}
+
+/// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
+/// Returns true on any update. Lanes the float path cannot decide go to the scalar kernel (see WatertightLanes).
+template <class S>
+RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
+                                                   const Triangle4* const* blocks, Hit& hit) {
+  constexpr int W = S::kWidth;
+  WatertightLanes<S> lanes;
+  if (!test_triangle_lanes(ray, scalar_ray, blocks, hit.t, lanes)) return false;
   bool updated = false;
   if (lanes.hits) {
     float t_lane[W], u_lane[W], v_lane[W];

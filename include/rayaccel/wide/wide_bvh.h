@@ -86,6 +86,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// primitives other than triangles.
   void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const override;
 
+  /// The queries beyond the first hit (wide_bvh_queries.cpp; see detail::StructureWithQueries): scalar walks over
+  /// the same nodes and blocks.
+  void find_crossings(HitList& list) const;
+  void find_closest_point(ClosestPointSearch& search) const;
+
   template <bool AnyHit, class Stats>
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     trace_from<AnyHit>(root_, ray, hit, stats);
@@ -132,6 +137,13 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::size_t leaf_ids(const BuildTree& tree, std::uint32_t binary_node, std::uint32_t* ids,
                        LeafIdCounts& dropped) const;
   void fill_leaves();
+  template <class Kernel>
+  RAYACCEL_LANE_INLINE void find_crossings_in(const NodeArray<Kernel::kWidth>& nodes, HitList& list) const;
+  template <int W>
+  void find_closest_point_in(const NodeArray<W>& nodes, ClosestPointSearch& search) const;
+  /// Calls query.test() for every triangle of the leaf `ref`.
+  template <class Query>
+  void test_leaf(std::uint32_t ref, Query& query) const;
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
