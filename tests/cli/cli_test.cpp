@@ -368,7 +368,9 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   // Memory on the same terms for every row: the structure's own bytes, and the input its queries read.
   const Scene scene = load_scene(c.ply.string());
   for (const auto& row : rows) {
-    if (row["accel"] == "brute_force") EXPECT_EQ(row["input_memory_bytes"], scene.memory_bytes());
+    if (row["accel"] == "brute_force") {
+      EXPECT_EQ(row["input_memory_bytes"], scene.memory_bytes());
+    }
     if (row["accel"] == "embree") {  // Embree's padded vertex copy and the index buffer of the valid triangles
       ASSERT_LT(scene.valid_count(), scene.primitive_count()) << "the case should hold an invalid triangle";
       EXPECT_EQ(row["input_memory_bytes"], (3 * scene.mesh().vertices.size() + 1) * sizeof(float) +

@@ -257,7 +257,9 @@ TEST(Workloads, LightRaysEndJustBeforeTheLight) {
     const bool in_shadow = r.origin.z < 0.5f && std::abs(r.origin.x) < 0.75f && std::abs(r.origin.y) < 0.75f;
     const bool near_edge = r.origin.z < 0.5f && (std::abs(std::abs(r.origin.x) - 0.75f) < 0.02f ||
                                                  std::abs(std::abs(r.origin.y) - 0.75f) < 0.02f);
-    if (!near_edge) EXPECT_EQ(occluded, in_shadow) << r.origin.x << " " << r.origin.y << " " << r.origin.z;
+    if (!near_edge) {
+      EXPECT_EQ(occluded, in_shadow) << r.origin.x << " " << r.origin.y << " " << r.origin.z;
+    }
     (occluded ? shadowed : lit) += 1;
   }
   EXPECT_GT(shadowed, 10u);
