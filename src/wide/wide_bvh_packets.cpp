@@ -77,6 +77,9 @@ struct PacketLanes {
     for (int a = 0; a < 3; ++a) {
       origin[a] = S::load(field[a]);
       direction[a] = S::load(field[4 + a]);
+      // readable_direction(): subnormal components read as zero of their sign, as PreparedRay reads them.
+      const F subnormal_d = S::lt(S::and_not(sign_bit, direction[a]), S::set1(FLT_MIN));
+      direction[a] = S::blend(direction[a], S::bit_and(sign_bit, direction[a]), subnormal_d);
       // is_valid_ray: finite components (|x| < inf is false for NaN), a nonzero direction
       valid = S::bit_and(valid, S::bit_and(S::lt(S::and_not(sign_bit, origin[a]), inf),
                                            S::lt(S::and_not(sign_bit, direction[a]), inf)));

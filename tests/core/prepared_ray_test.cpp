@@ -2,6 +2,7 @@
 // permutation) and of Hit's tracing bound (begin / finish).
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -27,7 +28,32 @@ TEST(PreparedRay, ValidRaysKeepTheirInterval) {
   EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, 0.0f}).is_void());
   EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, -kInf, {1, 0, 0}, kInf}).is_void());
   EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, kInf, {1, 0, 0}, kInf}).is_void());
-  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, 0.0f, {1e-40f, 0, 0}, kInf}).is_void()) << "denormal but nonzero";
+  EXPECT_FALSE(PreparedRay(Ray{{0, 0, 0}, 0.0f, {FLT_MIN, 0, 0}, kInf}).is_void()) << "the smallest normal length";
+}
+
+TEST(PreparedRay, SubnormalDirectionComponentsReadAsZero) {
+  // Their reciprocals overflow float, so box tests can follow such a ray only as if they were zero; the triangle test
+  // follows the same ray (the fuzz input tests/fuzz/corpus/fuzz_differential/subnormal-direction-component).
+  const PreparedRay r(Ray{{0, 0, 0}, 0.0f, {1e-40f, -0.25f, -7.0e6f}, kInf});
+  EXPECT_EQ(r.direction.x, 0.0f);
+  EXPECT_FALSE(std::signbit(r.direction.x));
+  EXPECT_EQ(r.inv_direction.x, kInf);
+  EXPECT_EQ(r.kz, 2);
+  EXPECT_EQ(r.ky, 0) << "z negative swaps kx and ky";
+  EXPECT_EQ(r.shear_y, 0.0f) << "the flushed component shears by exactly zero";
+  const PreparedRay n(Ray{{0, 0, 0}, 0.0f, {1.0f, -1e-39f, 0.0f}, kInf});
+  EXPECT_EQ(n.direction.y, 0.0f);
+  EXPECT_TRUE(std::signbit(n.direction.y)) << "the sign is kept, so the near plane is the same";
+  EXPECT_EQ(n.inv_direction.y, -kInf);
+  EXPECT_EQ(n.negative[1], 1);
+  EXPECT_EQ(n.direction.x, 1.0f);
+  // A direction of subnormal components only reads as zero: void, for the cheap check too.
+  const float tiniest = std::numeric_limits<float>::denorm_min();
+  for (const Vec3& d : {Vec3{1e-40f, 0, 0}, Vec3{1e-38f, -1e-38f, 1e-38f}, Vec3{0, 0, -tiniest}}) {
+    const Ray ray{{1, 2, 3}, 0.0f, d, kInf};
+    EXPECT_TRUE(PreparedRay(ray).is_void());
+    EXPECT_FALSE(is_valid_ray(ray));
+  }
 }
 
 TEST(PreparedRay, BadRaysAreVoid) {

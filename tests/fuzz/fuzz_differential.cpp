@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -49,6 +50,18 @@ class Bytes {
   std::size_t size_;
   std::size_t pos_ = 0;
 };
+
+/// Stops the run on a disagreement, printing what disagreed first so that a CI log names it.
+[[noreturn]] void disagree(const char* what, const std::string& spec, const Ray* ray, const Hit* got, const Hit* want) {
+  std::fprintf(stderr, "fuzz_differential: %s: %s\n", spec.c_str(), what);
+  if (ray) {
+    std::fprintf(stderr, "  ray origin (%a, %a, %a) direction (%a, %a, %a) t (%a, %a]\n", ray->origin.x, ray->origin.y,
+                 ray->origin.z, ray->direction.x, ray->direction.y, ray->direction.z, ray->t_min, ray->t_max);
+  }
+  if (got) std::fprintf(stderr, "  got prim %u t %a\n", unsigned(got->prim_id), got->t);
+  if (want) std::fprintf(stderr, "  brute force prim %u t %a\n", unsigned(want->prim_id), want->t);
+  __builtin_trap();
+}
 
 const std::vector<std::string>& variants() {
   static const std::vector<std::string> names = accelerator_variant_names();
@@ -99,21 +112,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } catch (const Error&) {
       continue;  // a structure may refuse a scene with a clear error (none does today)
     }
-    if (!accel->validate().empty()) __builtin_trap();
+    if (const auto problems = accel->validate(); !problems.empty()) {
+      disagree(problems.front().c_str(), spec, nullptr, nullptr, nullptr);
+    }
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const Hit got = accel->intersect(rays[i]);
       const Hit& want = expected[i];
-      if (got.found() != want.found()) __builtin_trap();
-      if (accel->occluded(rays[i]) != want.found()) __builtin_trap();
+      if (got.found() != want.found()) disagree("closest hit found differs", spec, &rays[i], &got, &want);
+      if (accel->occluded(rays[i]) != want.found()) disagree("any hit differs", spec, &rays[i], &got, &want);
       if (!want.found()) continue;
       if (got.prim_id == want.prim_id) {
-        if (std::fabs(got.t - want.t) > 1e-6f * std::fabs(want.t)) __builtin_trap();
+        if (std::fabs(got.t - want.t) > 1e-6f * std::fabs(want.t)) disagree("t differs", spec, &rays[i], &got, &want);
         continue;
       }
       // A different primitive: the kernel must hit it at exactly the oracle's t (a tie).
       const PreparedRay prepared(rays[i]);
       Hit tie = Hit::begin(prepared);
-      if (!scene.intersect(got.prim_id, prepared, tie) || tie.t != want.t) __builtin_trap();
+      if (!scene.intersect(got.prim_id, prepared, tie) || tie.t != want.t) {
+        disagree("another primitive at another t", spec, &rays[i], &got, &want);
+      }
     }
   }
   return 0;

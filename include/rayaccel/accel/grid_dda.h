@@ -77,10 +77,11 @@ struct GridFrame {
     return (std::uint32_t(z) * std::uint32_t(res[1]) + std::uint32_t(y)) * std::uint32_t(res[0]) + std::uint32_t(x);
   }
   float plane(int axis, int k) const { return k >= res[axis] ? box.hi[axis] : box.lo[axis] + float(k) * cell_size[axis]; }
-  /// The cell holding coordinate `coord` on `axis`, clamped into the grid (NaN-free for finite input).
+  /// The cell holding coordinate `coord` on `axis`, clamped into the grid. A NaN position (0 * inf on an axis where
+  /// the box is flat, which has the one cell 0) reads as cell 0.
   int cell_of(float coord, int axis) const {
     const float f = (coord - box.lo[axis]) * inv_cell_size[axis];
-    return int(std::clamp(f, 0.0f, float(res[axis] - 1)));
+    return f > 0.0f ? int(std::min(f, float(res[axis] - 1))) : 0;
   }
   AABB cell_bounds(int x, int y, int z) const {
     return {{plane(0, x), plane(1, y), plane(2, z)}, {plane(0, x + 1), plane(1, y + 1), plane(2, z + 1)}};

@@ -20,17 +20,33 @@ struct Ray {
 };
 static_assert(sizeof(Ray) == 32, "Ray is the 32-byte record of the .rays file");
 
-/// False for a "void" ray (see PreparedRay): a NaN or infinite origin or direction component, a zero direction, a
-/// NaN t bound, or t_max < t_min. Cheap (no division), for code that only needs to reject such rays.
+/// A direction component as every kernel reads it: subnormal components (0 < |d| < FLT_MIN) read as zero of the same
+/// sign, as under the CPU's denormals-are-zero mode. Their reciprocals overflow float, so a box test could only follow
+/// such a ray as if the component were zero; the triangle test, its exact fallback and every structure follow that
+/// same ray, so all of them agree. The ray followed differs from the one given by less than FLT_MIN * |t| in that
+/// coordinate.
+inline float readable_direction(float d) {
+  return std::fabs(d) < std::numeric_limits<float>::min() ? std::copysign(0.0f, d) : d;
+}
+inline Vec3 readable_direction(const Vec3& d) {
+  return {readable_direction(d.x), readable_direction(d.y), readable_direction(d.z)};
+}
+
+/// False for a "void" ray (see PreparedRay): a NaN or infinite origin or direction component, a zero direction
+/// (every component zero or subnormal: see readable_direction()), a NaN t bound, or t_max < t_min. Cheap (no
+/// division), for code that only needs to reject such rays.
 inline bool is_valid_ray(const Ray& ray) {
+  constexpr float kMinNormal = std::numeric_limits<float>::min();
   const Vec3& d = ray.direction;
-  return is_finite(ray.origin) && is_finite(d) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) &&
+  return is_finite(ray.origin) && is_finite(d) &&
+         (std::fabs(d.x) >= kMinNormal || std::fabs(d.y) >= kMinNormal || std::fabs(d.z) >= kMinNormal) &&
          !std::isnan(ray.t_min) && !std::isnan(ray.t_max) && ray.t_min <= ray.t_max;
 }
 
 /// Per-ray constants shared by every kernel. A ray with a NaN or infinite origin or direction component, a zero
 /// direction, a NaN t bound, or t_max < t_min is "void": its interval is empty (t_min = +inf, t_max = -inf) and
-/// every test rejects it, so bad rays never produce a hit.
+/// every test rejects it, so bad rays never produce a hit. `direction` is the ray's as kernels read it
+/// (readable_direction(): subnormal components are zero).
 struct PreparedRay {
   Vec3 origin;
   Vec3 direction;
@@ -44,7 +60,7 @@ struct PreparedRay {
 
   bool is_void() const { return !(t_min <= t_max); }
 
-  explicit PreparedRay(const Ray& ray) : origin(ray.origin), direction(ray.direction) {
+  explicit PreparedRay(const Ray& ray) : origin(ray.origin), direction(readable_direction(ray.direction)) {
     const Vec3& d = direction;
     if (is_valid_ray(ray)) {
       t_min = ray.t_min;
