@@ -11,7 +11,7 @@ namespace rayaccel {
 
 namespace {
 
-void refuse_without_assimp(const std::filesystem::path& path) {
+[[noreturn]] void refuse_without_assimp(const std::filesystem::path& path) {
   throw Error("cannot read mesh file '" + path.string() +
               "': this rayaccel was built without assimp (RAYACCEL_WITH_ASSIMP=OFF) and reads only PLY files; use a "
               "PLY file, a builtin: scene or a Scene built from your own arrays");

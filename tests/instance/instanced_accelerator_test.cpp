@@ -151,12 +151,13 @@ Vec3 random_point(std::mt19937& rng, float half) {
 }
 
 /// Random rays, and rays from random points at interior points of random triangles (barycentrics >= 0.1).
-Tally compare_rays(const InstancedScene& scene, const InstancedAccelerator& accel, std::uint32_t seed) {
+Tally compare_rays(const InstancedScene& scene, const InstancedAccelerator& accel, std::uint32_t seed,
+                   int rays_per_kind = 600) {
   Comparison comparison(scene);
   comparison.set_geometry_of(geometries_of(scene));
   std::mt19937 rng(seed);
   Tally tally;
-  for (int i = 0; i < 600; ++i) {
+  for (int i = 0; i < rays_per_kind; ++i) {
     Ray ray;
     ray.origin = random_point(rng, 20.0f);
     ray.direction = random_point(rng, 1.0f);
@@ -164,7 +165,7 @@ Tally compare_rays(const InstancedScene& scene, const InstancedAccelerator& acce
   }
   std::uniform_real_distribution<float> weight(0.1f, 1.0f);
   const Scene& flat = comparison.flat().scene;
-  for (int i = 0; i < 600; ++i) {
+  for (int i = 0; i < rays_per_kind; ++i) {
     const std::uint32_t prim = std::uniform_int_distribution<std::uint32_t>(0, flat.primitive_count() - 1)(rng);
     if (!flat.is_valid(prim)) continue;
     const auto tri = flat.triangle(prim);
@@ -269,6 +270,18 @@ INSTANTIATE_TEST_SUITE_P(Conformance, ConformanceInstanced,
                            }
                            return name;
                          });
+
+// Any registered structure serves as the bottom level: every name of `rayaccel list --names`, fewer rays each.
+TEST(ConformanceInstancedAll, EveryVariantAsBottomLevel) {
+  const InstancedScene scene = make_scene(12, 13);
+  for (const std::string& spec : accelerator_variant_names()) {
+    SCOPED_TRACE(spec);
+    InstancedAccelerator accel({spec});
+    accel.build(scene);
+    EXPECT_TRUE(accel.validate().empty());
+    compare_rays(scene, accel, 14, 100);
+  }
+}
 
 TEST(InstancedScene, BadInstancesAreClearErrors) {
   InstancedScene scene;
