@@ -5,7 +5,7 @@
 // The rule, since an instanced ray and a flattened triangle round differently (see instanced_accelerator.h):
 // - Both answers name the same surface point up to rounding: |t - t_ref| * |d| <= kTolerance * R / max(|cos|, 0.05),
 //   R = |origin| + the scene's radius, cos the angle between the ray and the reference triangle, and kTolerance =
-//   2^-24 * 64 (a few roundings, each amplified by the transforms' condition number, at most 8 here).
+//   2^-24 * 64 (a few roundings, each amplified by the transforms' condition number, at most 4 here).
 // - Found or not, and which (instance, primitive), must agree, except within the edge band: a disagreement where the
 //   hit that one side found lies within 1e-4 (in barycentrics) of an edge of its triangle. Those are counted and must
 //   stay under 1% of the rays. A ray aimed at a triangle's interior (barycentrics >= 0.1) that the reference finds

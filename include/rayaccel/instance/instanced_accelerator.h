@@ -35,7 +35,7 @@
 namespace rayaccel {
 
 /// A closest hit in an instanced scene: the bottom level's Hit fields (t, prim_id and u, v of the geometry's
-/// primitive) plus which instance and geometry it was found in.
+/// primitive) plus which instance and geometry it was found in. A miss has t = +inf and every id kInvalidPrimId.
 struct InstanceHit {
   float t = std::numeric_limits<float>::infinity();
   std::uint32_t prim_id = kInvalidPrimId;   ///< primitive of the geometry
