@@ -39,7 +39,8 @@ struct MeshHierarchy {
   /// meshes without triangles are left out (and the placements renumbered).
   std::vector<TriangleMesh> meshes;
   /// One per reference of a node to a mesh, in the scene-graph order of import_mesh(): import_mesh() is these meshes
-  /// mapped by these transforms and concatenated.
+  /// mapped by these transforms and concatenated (it maps in float, through assimp's matrices; a flattening in double
+  /// may differ from it in the last bit where a transform does not map a vertex exactly).
   std::vector<Placement> placements;
 };
 
