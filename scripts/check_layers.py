@@ -23,7 +23,8 @@ LAYERS = [
     ["bvh"],       # Bvh<BV> and its builders
     ["wide"],      # the wide BVH (built from bvh's binary trees)
     ["generalized"],  # beams and cones traced over the BVH family and the wide BVH
-    ["compare", "render", "query"],  # Embree adapter; cameras, workloads, shading, images; inside tests, signed distance
+    ["compare", "render", "query", "instance"],  # Embree adapter; cameras, workloads, shading, images; inside tests,
+    # signed distance; two-level structures over instanced scenes
     ["catalog"],   # the list of built-in structures: the one place that knows them all
 ]
 RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}

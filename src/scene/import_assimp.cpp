@@ -8,6 +8,7 @@
 #include <assimp/scene.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <fstream>
 #include <new>
 #include <string>
@@ -81,6 +82,39 @@ void append_node(TriangleMesh& out, const aiScene& scene, const aiNode& node, co
   for (unsigned c = 0; c < node.mNumChildren; ++c) append_node(out, scene, *node.mChildren[c], transform, path);
 }
 
+/// Reads a non-PLY file with assimp, without post-processing: steps such as Triangulate, SortByPType,
+/// JoinIdenticalVertices or FindDegenerates would reorder, split, weld or drop faces and break "primitive id =
+/// triangle index in file order".
+const aiScene& read_with_assimp(Assimp::Importer& importer, const std::filesystem::path& path) {
+  const aiScene* scene = nullptr;
+  try {
+    scene = importer.ReadFile(path.string(), 0);
+  } catch (const std::bad_alloc&) {
+    throw Error("mesh file " + quoted(path) + ": out of memory while assimp read it (a count in the file is "
+                "larger than the file can hold?)");
+  }
+  if (!scene) {
+    throw Error("mesh file " + quoted(path) + " is not a mesh assimp can read: " + importer.GetErrorString());
+  }
+  return *scene;
+}
+
+/// append_node() without flattening: records each node's reference to a mesh with its accumulated transform.
+void place_node(MeshHierarchy& out, const std::vector<std::int64_t>& kept, const aiScene& scene, const aiNode& node,
+                const aiMatrix4x4& parent) {
+  const aiMatrix4x4 transform = parent * node.mTransformation;
+  for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+    if (node.mMeshes[i] >= scene.mNumMeshes || kept[node.mMeshes[i]] < 0) continue;
+    MeshHierarchy::Placement placement;
+    placement.mesh = static_cast<std::uint32_t>(kept[node.mMeshes[i]]);
+    for (unsigned r = 0; r < 3; ++r) {
+      for (unsigned c = 0; c < 4; ++c) placement.transform[r * 4 + c] = transform[r][c];
+    }
+    out.placements.push_back(placement);
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c) place_node(out, kept, scene, *node.mChildren[c], transform);
+}
+
 }  // namespace
 
 TriangleMesh import_mesh(const std::filesystem::path& path) {
@@ -92,26 +126,45 @@ TriangleMesh import_mesh(const std::filesystem::path& path) {
     return mesh;
   }
   Assimp::Importer importer;
-  // No post-processing at all: steps such as Triangulate, SortByPType, JoinIdenticalVertices or FindDegenerates
-  // would reorder, split, weld or drop faces and break "primitive id = triangle index in file order".
-  const aiScene* scene = nullptr;
-  try {
-    scene = importer.ReadFile(path.string(), 0);
-  } catch (const std::bad_alloc&) {
-    throw Error("mesh file " + quoted(path) + ": out of memory while assimp read it (a count in the file is "
-                "larger than the file can hold?)");
-  }
-  if (!scene) {
-    throw Error("mesh file " + quoted(path) + " is not a mesh assimp can read: " + importer.GetErrorString());
-  }
+  const aiScene& scene = read_with_assimp(importer, path);
   TriangleMesh mesh;
-  if (scene->mRootNode) {
-    append_node(mesh, *scene, *scene->mRootNode, aiMatrix4x4{}, path);
+  if (scene.mRootNode) {
+    append_node(mesh, scene, *scene.mRootNode, aiMatrix4x4{}, path);
   } else {
-    for (unsigned i = 0; i < scene->mNumMeshes; ++i) append_assimp_mesh(mesh, *scene, i, aiMatrix4x4{}, path);
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) append_assimp_mesh(mesh, scene, i, aiMatrix4x4{}, path);
   }
   if (mesh.triangles.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
   return mesh;
+}
+
+MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path) {
+  MeshHierarchy out;
+  if (looks_like_ply(check_readable(path))) {
+    out.meshes.push_back(import_mesh(path));
+    out.placements.push_back({});
+    return out;
+  }
+  Assimp::Importer importer;
+  const aiScene& scene = read_with_assimp(importer, path);
+  std::vector<std::int64_t> kept(scene.mNumMeshes, -1);  // file mesh -> index in out.meshes, -1 without triangles
+  for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
+    TriangleMesh mesh;
+    append_assimp_mesh(mesh, scene, i, aiMatrix4x4{}, path);
+    if (mesh.triangles.empty()) continue;
+    kept[i] = static_cast<std::int64_t>(out.meshes.size());
+    out.meshes.push_back(std::move(mesh));
+  }
+  if (scene.mRootNode) {
+    place_node(out, kept, scene, *scene.mRootNode, aiMatrix4x4{});
+  } else {
+    for (std::size_t i = 0; i < out.meshes.size(); ++i) {
+      MeshHierarchy::Placement placement;
+      placement.mesh = static_cast<std::uint32_t>(i);
+      out.placements.push_back(placement);
+    }
+  }
+  if (out.placements.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
+  return out;
 }
 
 }  // namespace rayaccel

@@ -9,6 +9,23 @@
 
 namespace rayaccel {
 
+namespace {
+
+[[noreturn]] void refuse_without_assimp(const std::filesystem::path& path) {
+  throw Error("cannot read mesh file '" + path.string() +
+              "': this rayaccel was built without assimp (RAYACCEL_WITH_ASSIMP=OFF) and reads only PLY files; use a "
+              "PLY file, a builtin: scene or a Scene built from your own arrays");
+}
+
+}  // namespace
+
+MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path) {
+  MeshHierarchy out;
+  out.meshes.push_back(import_mesh(path));
+  out.placements.push_back({});
+  return out;
+}
+
 TriangleMesh import_mesh(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -17,9 +34,8 @@ TriangleMesh import_mesh(const std::filesystem::path& path) {
     if (mesh.triangles.empty()) throw Error("mesh file '" + path.string() + "' has no triangles");
     return mesh;
   }
-  throw Error("cannot read mesh file '" + path.string() +
-              "': this rayaccel was built without assimp (RAYACCEL_WITH_ASSIMP=OFF) and reads only PLY files; use a "
-              "PLY file, a builtin: scene or a Scene built from your own arrays");
+  refuse_without_assimp(path);
+  return {};
 }
 
 }  // namespace rayaccel

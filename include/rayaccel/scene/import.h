@@ -4,9 +4,12 @@
 // other tools rely on this).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "rayaccel/core/primitives.h"
 #include "rayaccel/scene/scene.h"
@@ -24,6 +27,27 @@ namespace rayaccel {
 ///   the node tree depth-first, parents before children, each node's meshes in its own order, with the accumulated
 ///   node transforms applied (a mesh instanced by two nodes appears twice).
 TriangleMesh import_mesh(const std::filesystem::path& path);
+
+/// A mesh file with its node hierarchy kept: each mesh once, and where the nodes place it.
+struct MeshHierarchy {
+  struct Placement {
+    std::uint32_t mesh = 0;  ///< index into meshes
+    /// The node's accumulated transform (mesh to file space), row-major 3x4.
+    std::array<double, 12> transform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  };
+  /// The file's meshes in file order, each fan-triangulated as by import_mesh() (ids in file order), untransformed;
+  /// meshes without triangles are left out (and the placements renumbered).
+  std::vector<TriangleMesh> meshes;
+  /// One per reference of a node to a mesh, in the scene-graph order of import_mesh(): import_mesh() is these meshes
+  /// mapped by these transforms and concatenated (it maps in float, through assimp's matrices; a flattening in double
+  /// may differ from it in the last bit where a transform does not map a vertex exactly).
+  std::vector<Placement> placements;
+};
+
+/// import_mesh() without flattening the node hierarchy: a mesh used by several nodes is read once and placed
+/// several times (the input of an instanced scene, instance/import_instanced.h). A PLY file is one mesh placed
+/// once. Throws Error as import_mesh() does, and for a file with no placed triangles.
+MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path);
 
 /// A scene from a spec: "builtin:NAME[:key=value,...]" (see builtin_scenes.h) or a mesh file path. The scene is
 /// named after the file stem or the builtin name.

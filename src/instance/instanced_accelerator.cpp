@@ -1,0 +1,110 @@
+// InstancedAccelerator: bottom levels from the registry, the top level over world boxes, and the two-level
+// traversal (top-level BVH, then each reached instance's bottom level on the ray mapped to its object space).
+#include "rayaccel/instance/instanced_accelerator.h"
+
+#include <utility>
+
+#include "rayaccel/accel/registry.h"
+#include "rayaccel/core/error.h"
+
+namespace rayaccel {
+
+InstancedAccelerator::InstancedAccelerator(InstancedAcceleratorOptions options) : options_(std::move(options)) {
+  make_accelerator(options_.bottom);  // an unknown spec fails here, naming the known structures or keys
+}
+
+void InstancedAccelerator::build(const InstancedScene& scene) {
+  scene_ = &scene;
+  bottoms_.clear();
+  for (std::uint32_t g = 0; g < scene.geometry_count(); ++g) {
+    bottoms_.push_back(make_accelerator(options_.bottom));
+    bottoms_.back()->build(scene.geometry(g));
+  }
+  rebuild_top();
+}
+
+void InstancedAccelerator::rebuild_top() {
+  if (!scene_) throw Error("InstancedAccelerator::rebuild_top: build() has not been called");
+  const InstancedScene& scene = *scene_;
+  if (bottoms_.size() != scene.geometry_count()) {
+    throw Error("InstancedAccelerator::rebuild_top: the scene has " + std::to_string(scene.geometry_count()) +
+                " geometries, the structure was built over " + std::to_string(bottoms_.size()) + " (call build())");
+  }
+  placed_.resize(scene.instance_count());
+  boxes_.resize(scene.instance_count());
+  for (std::uint32_t i = 0; i < scene.instance_count(); ++i) {
+    const Instance& instance = scene.instance(i);
+    placed_[i] = Placed{instance.inverse, instance.geometry, instance.instance_id};
+    boxes_[i] = transform_box(instance.transform, scene.geometry(instance.geometry).bounds());
+  }
+  top_.build(boxes_);
+}
+
+InstanceHit InstancedAccelerator::intersect(const Ray& ray) const {
+  InstanceHit best;
+  const PreparedRay prepared(ray);
+  if (prepared.is_void()) return best;
+  float t_far = ray.t_max;
+  top_.traverse(prepared, t_far, [&](std::uint32_t index, float& far) {
+    const Placed& p = placed_[index];
+    Ray local = transform_ray(p.world_to_object, ray);
+    local.t_max = far;
+    const Hit hit = bottoms_[p.geometry]->intersect(local);
+    if (hit.found() && (!best.found() || hit.t < best.t)) {
+      best = InstanceHit{hit.t, hit.prim_id, hit.u, hit.v, p.instance_id, index, p.geometry};
+      far = hit.t;
+    }
+    return false;
+  });
+  return best;
+}
+
+bool InstancedAccelerator::occluded(const Ray& ray) const {
+  const PreparedRay prepared(ray);
+  if (prepared.is_void()) return false;
+  bool found = false;
+  float t_far = ray.t_max;
+  top_.traverse(prepared, t_far, [&](std::uint32_t index, float&) {
+    const Placed& p = placed_[index];
+    found = bottoms_[p.geometry]->occluded(transform_ray(p.world_to_object, ray));
+    return found;
+  });
+  return found;
+}
+
+void InstancedAccelerator::intersect(std::span<const Ray> rays, std::span<InstanceHit> hits) const {
+  detail::check_batch_sizes(rays.size(), hits.size(), 0);
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) hits[i] = intersect(rays[i]);
+  });
+}
+
+void InstancedAccelerator::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out) const {
+  detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) occluded_out[i] = occluded(rays[i]) ? 1 : 0;
+  });
+}
+
+std::size_t InstancedAccelerator::bottom_memory_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& bottom : bottoms_) bytes += bottom->memory_bytes();
+  return bytes;
+}
+
+std::size_t InstancedAccelerator::top_memory_bytes() const {
+  return top_.memory_bytes() + placed_.capacity() * sizeof(Placed) + boxes_.capacity() * sizeof(AABB);
+}
+
+std::vector<std::string> InstancedAccelerator::validate() const {
+  std::vector<std::string> problems;
+  for (std::size_t g = 0; g < bottoms_.size(); ++g) {
+    for (const std::string& line : bottoms_[g]->validate()) {
+      problems.push_back("geometry " + std::to_string(g) + ": " + line);
+    }
+  }
+  for (std::string& line : top_.validate(boxes_)) problems.push_back(std::move(line));
+  return problems;
+}
+
+}  // namespace rayaccel
