@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -56,11 +57,13 @@ void WideBvh::refit_nodes(NodeArray<W>& nodes) {
 
 void WideBvh::refit() {
   if (!scene_) throw Error("bvh_wide refit: nothing was built");
-  for (const std::uint32_t id : leaf_prim_ids()) {
-    if (id >= scene_->primitive_count()) {
-      throw Error("bvh_wide refit: the tree refers to primitive " + std::to_string(id) + ", but the scene has " +
-                  std::to_string(scene_->primitive_count()) + "; rebuild instead");
-    }
+  // The range check reads the blocks in place (no gathered copy of the ids: update() has just made one).
+  std::uint32_t max_id = 0;
+  simd::for_each_block_id(blocks_.data(), static_cast<std::uint32_t>(blocks_.size()),
+                          [&](const Triangle4& block, int lane) { max_id = std::max(max_id, block.prim_id[lane]); });
+  if (!blocks_.empty() && max_id >= scene_->primitive_count()) {
+    throw Error("bvh_wide refit: the tree refers to primitive " + std::to_string(max_id) + ", but the scene has " +
+                std::to_string(scene_->primitive_count()) + "; rebuild instead");
   }
   if (triangles_) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 1024), [&](const auto& range) {
