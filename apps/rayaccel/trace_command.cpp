@@ -1,6 +1,6 @@
-// `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), traces a .rays file R times
-// with the batch API (median time; --packets: the packet batch), optionally writes the .hits (or .occ) file, and
-// prints one JSON summary line.
+// `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), or loads one saved before
+// (--load), traces a .rays file R times with the batch API (median time; --packets: the packet batch), optionally
+// saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +11,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/ray_io.h"
 
 namespace rayaccel::cli {
@@ -26,6 +27,8 @@ struct TraceArgs {
   int threads = 0;
   int repeat = 5;
   std::string out;
+  std::string save;  ///< write the built structure here (Accelerator::save())
+  std::string load;  ///< load the structure from here instead of building (load_accelerator())
 };
 
 constexpr int kBuilds = 3;
@@ -36,22 +39,39 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (args.packets && args.occlusion) {
     throw UsageError("--packets traces closest hits (intersect_packets()); it cannot be combined with --occlusion");
   }
+  if (!args.load.empty() && !args.accel.empty()) {
+    throw UsageError("--load takes the structure from the file; leave out --accel");
+  }
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
   if (!args.out.empty()) check_output_path(args.out, args.occlusion ? "occlusion file" : "hit file");
+  if (!args.save.empty()) {
+    if (args.load.empty() && !make_accelerator(spec)->supports_save()) {
+      throw UsageError("--save: '" + spec + "' cannot be saved (saved structures: bvh, every volume, and bvh_wide)");
+    }
+    check_output_path(args.save, "saved structure");
+  }
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   const Scene scene = load_scene_checked(args.scene);
   const std::vector<Ray> rays = read_rays(args.rays);
 
   std::vector<double> build_ms;
+  double load_ms = 0.0;
   std::unique_ptr<Accelerator> accel;
-  for (int i = 0; i < kBuilds; ++i) {
-    accel = make_structure(spec, ThreadLimit::active());
+  if (!args.load.empty()) {
     const Stopwatch clock;
-    accel->build(scene);
-    build_ms.push_back(clock.milliseconds());
+    accel = load_accelerator(args.load, scene);
+    load_ms = clock.milliseconds();
+  } else {
+    for (int i = 0; i < kBuilds; ++i) {
+      accel = make_structure(spec, ThreadLimit::active());
+      const Stopwatch clock;
+      accel->build(scene);
+      build_ms.push_back(clock.milliseconds());
+    }
   }
+  if (!args.save.empty()) accel->save(args.save);
 
   std::vector<Hit> hits(args.occlusion ? 0 : rays.size());
   std::vector<std::uint8_t> occluded(args.occlusion ? rays.size() : 0);
@@ -88,8 +108,6 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       {"rays", rays.size()},
       {"query", args.occlusion ? "occluded" : args.packets ? "intersect_packets" : "intersect"},
       {"threads", ThreadLimit::active()},
-      {"build_ms_median", median(build_ms)},
-      {"build_ms", build_ms},
       {"trace_ms_median", trace_median},
       {"trace_ms", trace_ms},
       {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(rays.size()) / (trace_median * 1e3) : 0.0},
@@ -98,6 +116,14 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       {"scene_memory_bytes", scene.memory_bytes()},
       {"input_memory_bytes", accel->input_memory_bytes(scene)},
   };
+  if (args.load.empty()) {
+    summary["build_ms_median"] = median(build_ms);
+    summary["build_ms"] = build_ms;
+  } else {
+    summary["loaded_from"] = args.load;
+    summary["load_ms"] = load_ms;
+  }
+  if (!args.save.empty()) summary["saved_to"] = args.save;
   if (!args.out.empty()) summary["out"] = args.out;
   fmt::print("{}\n", summary.dump());
   return 0;
@@ -119,6 +145,11 @@ Command add_trace_command(CLI::App& root) {
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for build and trace (>= 1)");
   app->add_option("--repeat", args->repeat, "Timed passes over all rays (median reported)")->capture_default_str();
   app->add_option("--out", args->out, "Output .hits file (.occ with --occlusion)");
+  app->add_option("--save", args->save,
+                  "Save the built structure to this file (bvh, every volume, and bvh_wide), to --load it later");
+  app->add_option("--load", args->load,
+                  "Load the structure saved by --save instead of building one (checked against the scene: a file "
+                  "saved for other geometry is refused)");
   return {app, [args, threads] { return run_trace(*args, threads->count() > 0); }};
 }
 

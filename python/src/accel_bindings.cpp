@@ -58,6 +58,36 @@ class PyAccelerator {
     scene_ = std::move(scene);
   }
 
+  /// After the scene's vertices moved (arrays written in place, then Scene.arrays_changed()): refits where the
+  /// structure can, else rebuilds; "refitted" or "rebuilt".
+  std::string update() {
+    py::gil_scoped_release release;
+    std::unique_lock lock(mutex_);
+    require_built();
+    const auto start = std::chrono::steady_clock::now();
+    const UpdateKind kind = accel_->update(*scene_);
+    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return to_string(kind);
+  }
+  void save(const std::string& path) const {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    require_built().save(path);
+  }
+  /// Replaces this structure by the one saved in `path` (of the kind the file names) over `scene`.
+  void load(const std::string& path, std::shared_ptr<Scene> scene) {
+    if (!scene) throw TypeError("load() needs a rayaccel.Scene, not None");
+    py::gil_scoped_release release;
+    std::unique_lock lock(mutex_);
+    const auto start = std::chrono::steady_clock::now();
+    std::unique_ptr<Accelerator> loaded = load_accelerator(path, *scene);
+    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    accel_ = std::move(loaded);
+    scene_ = std::move(scene);
+  }
+  bool supports_refit() const { return accel_->supports_refit(); }
+  bool supports_save() const { return accel_->supports_save(); }
+
   // Accessors run with the GIL held; they wait for a build running in another thread (which needs no GIL until
   // it ends), never the other way round.
   bool built() const {
@@ -338,6 +368,16 @@ void bind_accelerator(py::module_& m) {
       .def_property_readonly("memory_bytes", &PyAccelerator::memory_bytes)
       .def("build_statistics", &PyAccelerator::build_statistics)
       .def("validate", &PyAccelerator::validate)
+      .def("update", &PyAccelerator::update,
+           "After the scene's arrays moved in place (Scene.arrays_changed()): refit where the structure can (bvh, "
+           "bvh_wide), else rebuild; returns 'refitted' or 'rebuilt'")
+      .def("save", &PyAccelerator::save, py::arg("path"),
+           "Write the built structure (bvh, bvh_wide) to a versioned file checked against the scene on load")
+      .def("load", &PyAccelerator::load, py::arg("path"), py::arg("scene"),
+           "Replace this structure by the one saved in path (its kind read from the file), built over scene; "
+           "ValueError naming the file for a truncated, foreign, stale or wrong-version one")
+      .def_property_readonly("supports_refit", &PyAccelerator::supports_refit)
+      .def_property_readonly("supports_save", &PyAccelerator::supports_save)
       .def("_intersect", &PyAccelerator::intersect, py::arg("rays"), py::arg("stats"), py::arg("packets"),
            py::arg("check"), py::arg("out"))
       .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("check"))

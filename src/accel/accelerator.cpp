@@ -1,4 +1,5 @@
-// Batch splitting shared by every accelerator, and the queries beyond the first hit where a structure has none.
+// Batch splitting shared by every accelerator; the queries beyond the first hit, insertion, removal, saving and
+// loading where a structure has none.
 #include "rayaccel/accel/accelerator.h"
 
 #include <tbb/blocked_range.h>
@@ -19,7 +20,31 @@ namespace {
   throw Error(std::string(query) + " queries are not supported by '" + accel.spec() +
               "' (supported by brute_force, bvh and bvh_wide: their traversals enumerate every candidate)");
 }
+
+/// The name of a structure in an error message: its spec, or its kind when it was made without the registry.
+std::string structure_name(const Accelerator& accel) {
+  return accel.spec().empty() ? std::string("this structure") : "'" + accel.spec() + "'";
+}
+
+[[noreturn]] void lacks(const Accelerator& accel, const std::string& what, const char* which) {
+  throw Error(what + ": " + structure_name(accel) + " does not support it (" + which + ")");
+}
 }  // namespace
+
+const char* to_string(UpdateKind kind) { return kind == UpdateKind::refitted ? "refitted" : "rebuilt"; }
+
+void Accelerator::insert(std::uint32_t prim_id) {
+  lacks(*this, "insert(" + std::to_string(prim_id) + ")", "insertion and removal: octree; the others rebuild");
+}
+void Accelerator::remove(std::uint32_t prim_id) {
+  lacks(*this, "remove(" + std::to_string(prim_id) + ")", "insertion and removal: octree; the others rebuild");
+}
+void Accelerator::save(const std::filesystem::path& path) const {
+  lacks(*this, "save to '" + path.string() + "'", "saved structures: bvh (every volume) and bvh_wide");
+}
+void Accelerator::load(const std::filesystem::path& path, const Scene&) {
+  lacks(*this, "load from '" + path.string() + "'", "saved structures: bvh (every volume) and bvh_wide");
+}
 
 std::size_t Accelerator::all_hits(const Ray&, std::vector<Hit>&, std::size_t) const { unsupported(*this, "all-hits"); }
 std::size_t Accelerator::count_hits(const Ray&) const { unsupported(*this, "hit-count"); }
@@ -62,6 +87,18 @@ void check_point_query(const Vec3& point, float max_distance) {
   if (!(max_distance >= 0.0f)) {
     throw Error("closest point: max_distance " + std::to_string(max_distance) + " must be >= 0 (and not NaN)");
   }
+}
+
+bool refit_covers_scene(const Scene& scene, std::span<const std::uint32_t> ids) {
+  std::vector<std::uint8_t> held(scene.primitive_count(), 0);
+  for (const std::uint32_t id : ids) {
+    if (id >= held.size()) return false;
+    held[id] = 1;
+  }
+  for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
+    if (!held[id] && scene.is_valid(id)) return false;
+  }
+  return true;
 }
 
 void require_triangle_scene(const Scene& scene, const char* query) {

@@ -26,7 +26,7 @@ std::vector<std::string> BruteForce::validate() const {
 
 void register_brute_force(std::vector<AcceleratorInfo>& registry) {
   registry.push_back({"brute_force", "tests every primitive; the oracle every other structure must agree with", {}, {},
-                      [](const OptionValues&) { return std::make_unique<BruteForce>(); }, false});
+                      [](const OptionValues&) { return std::make_unique<BruteForce>(); }, false, {}});
 }
 
 }  // namespace rayaccel

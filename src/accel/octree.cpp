@@ -76,6 +76,7 @@ void Octree::build(const Scene& scene) {
   free_lists_.clear();
   active_.assign(scene.primitive_count(), 0);
   active_count_ = 0;
+  removed_.clear();
   if (options_.root_bounds) {
     root_box_ = *options_.root_bounds;
     if (!root_box_.contains(scene.bounds())) {
@@ -149,6 +150,7 @@ void Octree::insert(std::uint32_t id) {
   insert_into(0, root_box_, 0, id);
   active_[id] = 1;
   ++active_count_;
+  if (id < removed_.size()) removed_[id] = 0;
 }
 
 void Octree::insert_into(std::uint32_t node, const AABB& box, int depth, std::uint32_t id) {
@@ -162,11 +164,22 @@ void Octree::insert_into(std::uint32_t node, const AABB& box, int depth, std::ui
   for (int c = 0; c < 8; ++c) insert_into(first + std::uint32_t(c), child_box(box, c), depth + 1, id);
 }
 
+UpdateKind Octree::update(const Scene& scene) {
+  const std::vector<std::uint8_t> removed = scene_ == &scene ? removed_ : std::vector<std::uint8_t>{};
+  build(scene);
+  for (std::uint32_t id = 0; id < removed.size(); ++id) {
+    if (removed[id] && is_active(id)) remove(id);
+  }
+  return UpdateKind::rebuilt;
+}
+
 void Octree::remove(std::uint32_t id) {
   if (!is_active(id)) throw Error("octree: remove(" + std::to_string(id) + "): the primitive is not in the tree");
   remove_from(0, root_box_, 0, id);
   active_[id] = 0;
   --active_count_;
+  if (removed_.size() <= id) removed_.resize(std::size_t{id} + 1, 0);
+  removed_[id] = 1;
 }
 
 void Octree::remove_from(std::uint32_t node, const AABB& box, int depth, std::uint32_t id) {

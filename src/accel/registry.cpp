@@ -1,6 +1,7 @@
-// Registry lookup, spec parsing and option validation.
+// Registry lookup, spec parsing, option validation, and loading a saved structure of any registered format.
 #include "rayaccel/accel/registry.h"
 
+#include <fstream>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -187,6 +188,37 @@ std::unique_ptr<Accelerator> make_accelerator(std::string_view spec_text,
   auto accel = info.create(options);
   accel->set_spec(std::string(trim(spec_text)));
   return accel;
+}
+
+std::unique_ptr<Accelerator> load_accelerator(const std::filesystem::path& path, const Scene& scene) {
+  const std::string where = "saved structure '" + path.string() + "': ";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw Error(where + "cannot be opened for reading (not a regular file, or missing)");
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::byte> head(kSavedHeadBytes);
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  if (in.bad()) throw Error(where + "read failed");
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  for (const AcceleratorInfo& info : accelerator_registry()) {
+    if (!info.saved_spec) continue;
+    const std::string spec = info.saved_spec(head);
+    if (spec.empty()) continue;
+    std::unique_ptr<Accelerator> accel;
+    try {
+      accel = make_accelerator(spec);
+    } catch (const Error& e) {
+      throw Error(where + "its header names no valid structure (" + e.what() + ")");
+    }
+    accel->load(path, scene);
+    return accel;
+  }
+  std::vector<std::string> formats;
+  for (const AcceleratorInfo& info : accelerator_registry()) {
+    if (info.saved_spec) formats.push_back(info.name);
+  }
+  throw Error(where + "not a saved rayaccel structure (the formats known: " + join(formats) + ")");
 }
 
 }  // namespace rayaccel

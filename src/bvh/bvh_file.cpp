@@ -1,9 +1,13 @@
-// BVH file helpers: scene fingerprint, FNV-1a checksum, whole-file reads and writes with errors naming the file.
+// BVH file helpers: scene fingerprint, FNV-1a checksum, the spec a file loads with, whole-file reads and writes with
+// errors naming the file.
 #include "rayaccel/bvh/bvh_file.h"
 
+#include <cstring>
 #include <fstream>
 #include <new>
 #include <string>
+
+#include "rayaccel/bvh/bvh.h"
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/output_file.h"
@@ -42,29 +46,46 @@ std::uint64_t bvh_scene_fingerprint(const Scene& scene) {
   return h;
 }
 
-std::vector<std::byte> read_bvh_file(const std::filesystem::path& path) {
+std::string bvh_file_spec(std::span<const std::byte> head) {
+  if (head.size() < sizeof kBvhFileMagic || std::memcmp(head.data(), kBvhFileMagic, sizeof kBvhFileMagic) != 0) {
+    return {};
+  }
+  BvhFileHeader h{};
+  if (head.size() < sizeof h) return "bvh";
+  std::memcpy(&h, head.data(), sizeof h);
+  if (h.version != kBvhFileVersion) return "bvh";
+  h.volume[sizeof h.volume - 1] = '\0';
+  std::string spec = "bvh:bv=" + std::string(h.volume);
+  if (h.builder <= static_cast<std::uint32_t>(BvhBuilder::ploc)) {
+    spec += std::string(",builder=") + to_string(static_cast<BvhBuilder>(h.builder));
+  }
+  return spec;
+}
+
+std::vector<std::byte> read_bvh_file(const std::filesystem::path& path, const std::string& what) {
+  const std::string where = what + " '" + path.string() + "': ";
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
-    throw Error("bvh file '" + path.string() + "': cannot be opened for reading (not a regular file, or missing)");
+    throw Error(where + "cannot be opened for reading (not a regular file, or missing)");
   }
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw Error("bvh file '" + path.string() + "': cannot be opened for reading");
+  if (!in) throw Error(where + "cannot be opened for reading");
   const auto size = static_cast<std::size_t>(in.tellg());
   std::vector<std::byte> bytes;
   try {
     bytes.resize(size);
   } catch (const std::bad_alloc&) {
-    throw Error("bvh file '" + path.string() + "': out of memory for its " + std::to_string(size) + " bytes");
+    throw Error(where + "out of memory for its " + std::to_string(size) + " bytes");
   }
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
-    throw Error("bvh file '" + path.string() + "': read failed");
+    throw Error(where + "read failed");
   }
   return bytes;
 }
 
-void write_bvh_file(const std::filesystem::path& path, std::span<const std::byte> bytes) {
-  write_file_atomically(path, bytes, "bvh file");
+void write_bvh_file(const std::filesystem::path& path, std::span<const std::byte> bytes, const std::string& what) {
+  write_file_atomically(path, bytes, what);
 }
 
 }  // namespace rayaccel

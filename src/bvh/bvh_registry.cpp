@@ -11,6 +11,7 @@
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bvh/bvh.h"
+#include "rayaccel/bvh/bvh_file.h"
 #include "rayaccel/core/error.h"
 
 namespace rayaccel {
@@ -63,6 +64,7 @@ void register_bvh(std::vector<AcceleratorInfo>& registry) {
     }
   }
   info.create = create;
+  info.saved_spec = bvh_file_spec;
   registry.push_back(std::move(info));
 }
 

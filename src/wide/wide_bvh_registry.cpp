@@ -3,9 +3,11 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/wide/wide_bvh.h"
+#include "rayaccel/wide/wide_bvh_file.h"
 
 namespace rayaccel::wide {
 
@@ -38,12 +40,14 @@ const OptionTable<WideBvhOptions>& wide_bvh_option_table() {
 WideBvh::WideBvh(WideBvhOptions config) : config_(config) { wide_bvh_option_table().check(config_); }
 
 void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
-  registry.push_back(registry_entry<WideBvh>(
+  AcceleratorInfo info = registry_entry<WideBvh>(
       wide_bvh_option_table(),
       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 (or its "
       "AVX-512 build) when the CPU has it",
       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0",
-       "bvh_wide:presplit_threshold=0"}));
+       "bvh_wide:presplit_threshold=0"});
+  info.saved_spec = wide_bvh_file_spec;
+  registry.push_back(std::move(info));
 }
 
 }  // namespace rayaccel::wide

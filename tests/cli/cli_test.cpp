@@ -172,6 +172,35 @@ TEST(CliTrace, PacketsGiveTheClosestHits) {
   EXPECT_EQ(last_line_json(result.out)["query"], "intersect_packets");
 }
 
+TEST(CliTrace, SaveThenLoadGivesTheSameHits) {
+  const SmallCase c = make_small_case();
+  for (const std::string accel : {"bvh_wide", "bvh:bv=obb,builder=sbvh"}) {
+    const auto saved = c.dir / "saved.structure";
+    const auto built_hits = c.dir / "built.hits", loaded_hits = c.dir / "loaded.hits";
+    const auto built = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", accel, "--repeat", "1",
+                                "--save", saved.string(), "--out", built_hits.string()});
+    ASSERT_EQ(built.exit_code, 0) << built.err;
+    EXPECT_EQ(last_line_json(built.out)["saved_to"], saved.string());
+    const auto loaded = run_cli({"trace", c.ply.string(), c.rays.string(), "--repeat", "1", "--load", saved.string(),
+                                 "--out", loaded_hits.string()});
+    ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
+    const nlohmann::json summary = last_line_json(loaded.out);
+    EXPECT_TRUE(summary.contains("load_ms"));
+    EXPECT_FALSE(summary.contains("build_ms_median"));
+    EXPECT_EQ(testing::read_file(built_hits), testing::read_file(loaded_hits)) << accel;
+  }
+  const auto kd = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "kdtree", "--save",
+                           (c.dir / "kd.structure").string()});
+  EXPECT_EQ(kd.exit_code, 2);
+  EXPECT_NE(kd.err.find("cannot be saved"), std::string::npos) << kd.err;
+  const auto both = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "bvh_wide", "--load",
+                             (c.dir / "saved.structure").string()});
+  EXPECT_EQ(both.exit_code, 2);
+  const auto foreign = run_cli({"trace", c.ply.string(), c.rays.string(), "--load", c.rays.string()});
+  EXPECT_EQ(foreign.exit_code, 1);
+  EXPECT_NE(foreign.err.find(c.rays.string()), std::string::npos) << foreign.err;
+}
+
 TEST(CliTrace, OcclusionWritesOccFile) {
   const SmallCase c = make_small_case();
   const auto out = c.dir / "out.occ";

@@ -1,11 +1,14 @@
 // Accelerator: the one runtime interface over every structure (closest hit, any hit, parallel batches, memory,
 // statistics, validation), and AcceleratorImpl, which derives all of it from a structure's single templated
 // traversal so there is one indirect call per ray or per batch and none per node; the queries beyond the first hit
-// (every crossing along a ray, the closest point to a point) come from two more members a structure may have.
+// (every crossing along a ray, the closest point to a point) come from two more members a structure may have. Changes
+// after the build (update after vertex motion, insertion and removal, saving and loading) are virtual members with a
+// default that rebuilds or says the structure lacks them.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <span>
@@ -21,6 +24,12 @@
 #include "rayaccel/core/stats.h"
 
 namespace rayaccel {
+
+/// What Accelerator::update() did: refitted (tree shape kept, bounds and leaf copies refreshed from the moved vertices)
+/// or rebuilt from scratch.
+enum class UpdateKind { refitted, rebuilt };
+/// "refitted" or "rebuilt".
+const char* to_string(UpdateKind kind);
 
 /// A named figure a structure reports about its build (SAH cost, references per primitive, depth, ...).
 struct BuildStatistic {
@@ -84,6 +93,39 @@ class Accelerator {
   void closest_points(std::span<const Vec3> points, std::span<ClosestPoint> out,
                       float max_distance = std::numeric_limits<float>::infinity()) const;
 
+  // Changes after the build. Every structure answers update(); the others below are supported where the matching
+  // supports_*() says so, and otherwise throw Error naming the structure.
+
+  /// True when update() can refit in place instead of rebuilding (the BVH family and bvh_wide).
+  virtual bool supports_refit() const { return false; }
+  /// Brings the structure up to date with `scene` after its vertex positions moved (Scene::set_vertices(), or
+  /// Scene::buffers_changed() after writing the caller's buffers), with the answers a fresh build(scene) would give.
+  /// Structures with supports_refit() refit: the tree shape is kept and every bound and leaf copy of the vertices is
+  /// recomputed (cheap, but the tree's quality decays as the motion grows; rebuild now and then). They rebuild
+  /// instead when `scene` is not the one built over, its primitive count changed, or a primitive left out of the
+  /// build (invalid or zero-area then) is now valid. The others rebuild. Returns which happened.
+  virtual UpdateKind update(const Scene& scene) {
+    build(scene);
+    return UpdateKind::rebuilt;
+  }
+
+  /// True when insert() and remove() work (the octree): primitives enter and leave the built structure one by one.
+  virtual bool supports_incremental() const { return false; }
+  /// Adds primitive `prim_id` of the built-over scene (e.g. one appended by Scene::append_triangles()).
+  virtual void insert(std::uint32_t prim_id);
+  /// Removes primitive `prim_id`; queries no longer see it.
+  virtual void remove(std::uint32_t prim_id);
+
+  /// True when save() and load() work (the BVH family and bvh_wide).
+  virtual bool supports_save() const { return false; }
+  /// Writes the built structure to `path` (atomically: a reader never sees half a file) in a versioned binary
+  /// format that records the scene it was built over. Throws Error naming the file when it cannot be written.
+  virtual void save(const std::filesystem::path& path) const;
+  /// Replaces this structure by the one saved in `path`, which must have been built over `scene` (same primitives,
+  /// same geometry). Throws Error naming the file and the fault for a missing, truncated, foreign, wrong-version,
+  /// wrong-kind, corrupted or stale (other scene) file; this object stays usable after a failed load.
+  virtual void load(const std::filesystem::path& path, const Scene& scene);
+
   /// Bytes of the structure's own data (the scene's arrays are not counted).
   virtual std::size_t memory_bytes() const = 0;
   /// Bytes of input that queries read besides memory_bytes(), for `scene` (the one built over): the Scene's
@@ -111,6 +153,10 @@ void parallel_for_packets(std::size_t count, const std::function<void(std::size_
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);
 /// Throws Error unless `point` is finite and max_distance >= 0 (naming the bad value).
 void check_point_query(const Vec3& point, float max_distance);
+/// For update(): true when a refit of a structure that holds the primitives `ids` (repeats allowed) keeps every answer
+/// on `scene`: every id is in range and every valid primitive of the scene is among them. False, so the structure must
+/// rebuild, when the scene grew or a primitive left out of the build (invalid or zero-area then) is now valid.
+bool refit_covers_scene(const Scene& scene, std::span<const std::uint32_t> ids);
 /// Throws Error, naming `query` and the scene's kind, unless `scene` is a triangle scene.
 void require_triangle_scene(const Scene& scene, const char* query);
 

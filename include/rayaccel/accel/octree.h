@@ -53,10 +53,14 @@ class Octree final : public AcceleratorImpl<Octree> {
   /// touching only the leaves it overlaps and splitting those that grow past max_prims. Throws Error when `id` is
   /// out of range, invalid, already active, or not inside the root box (the root is never grown: build with
   /// OctreeOptions::pad or root_bounds to leave room, or rebuild).
-  void insert(std::uint32_t id);
+  void insert(std::uint32_t id) override;
   /// Removes primitive `id` from the active set and merges sibling leaves whose union fits in max_prims. The
   /// primitive's geometry must be what it was at insertion. Throws Error when `id` is not active.
-  void remove(std::uint32_t id);
+  void remove(std::uint32_t id) override;
+  bool supports_incremental() const override { return true; }
+  /// Rebuilds (a cell's references cannot be refitted: a moved triangle may enter other cells) over every valid
+  /// primitive but those remove()d since the last build, which stay out.
+  UpdateKind update(const Scene& scene) override;
   bool is_active(std::uint32_t id) const { return id < active_.size() && active_[id] != 0; }
   std::uint32_t active_count() const { return active_count_; }
   const AABB& root_box() const { return root_box_; }
@@ -225,6 +229,7 @@ class Octree final : public AcceleratorImpl<Octree> {
   std::vector<std::uint32_t> free_blocks_;          ///< first nodes of released child blocks
   std::vector<std::uint32_t> free_lists_;           ///< released list slots
   std::vector<std::uint8_t> active_;                ///< per primitive id: in the tree
+  std::vector<std::uint8_t> removed_;               ///< per primitive id: remove()d since the build (update keeps out)
   std::uint32_t active_count_ = 0;
 };
 

@@ -205,7 +205,7 @@ AcceleratorInfo registry_entry(const OptionTable<O>& table, std::string descript
           [&table](const OptionValues& values) -> std::unique_ptr<Accelerator> {
             return std::make_unique<Structure>(table.parse(values));
           },
-          false};
+          false, {}};
 }
 
 }  // namespace rayaccel

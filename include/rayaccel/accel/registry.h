@@ -2,9 +2,12 @@
 // "name" or "name:key=value,key=value". Unknown names and keys are errors that list the known ones.
 #pragma once
 
+#include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,7 +56,13 @@ struct AcceleratorInfo {
   /// Another library's structure, for comparisons (Embree): created by spec like any other, but not among
   /// accelerator_variant_names() (so not in `list --names`, `--accel all` or the conformance suite).
   bool comparison = false;
+  /// Structures with save(): given a file's first bytes (up to kSavedHeadBytes), the spec that loads it when the
+  /// file is in this structure's format, else an empty string. load_accelerator() asks every entry.
+  std::function<std::string(std::span<const std::byte> head)> saved_spec;
 };
+
+/// Bytes of a saved file that AcceleratorInfo::saved_spec sees (every format's header fits).
+inline constexpr std::size_t kSavedHeadBytes = 256;
 
 /// Every registered structure, brute force first.
 const std::vector<AcceleratorInfo>& accelerator_registry();
@@ -80,6 +89,11 @@ std::unique_ptr<Accelerator> make_accelerator(std::string_view spec);
 /// (the CLI's --threads for a structure with a `threads` option of its own); fallback keys it lacks are ignored.
 std::unique_ptr<Accelerator> make_accelerator(std::string_view spec,
                                               const std::map<std::string, std::string>& fallback);
+
+/// Makes the structure saved in `path` by Accelerator::save() (a structure of whichever format the file holds) and
+/// loads it over `scene`. Throws Error naming the file when it is missing or no registered structure recognises it,
+/// and as Accelerator::load() for a truncated, wrong-version, corrupted or stale (other scene) file.
+std::unique_ptr<Accelerator> load_accelerator(const std::filesystem::path& path, const Scene& scene);
 
 /// Registration hooks, one per structure module, called in this order by accelerator_registry() (see
 /// src/catalog/builtin_registry.cpp, the one file above every structure).

@@ -70,15 +70,19 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
 
   void build(const Scene& scene) override;
   /// Re-fits every volume bottom-up after Scene::set_vertices() changed positions but not topology. The tree shape
-  /// is kept; SBVH trees then bound whole primitives (their clipped parts no longer apply). Throws Error when the
-  /// scene's primitive count changed or nothing was built.
+  /// is kept; SBVH trees then bound whole primitives (their clipped parts no longer apply: a conservative refit, with
+  /// more overlap than a rebuild). Throws Error when the scene's primitive count changed or nothing was built.
   void refit();
+  bool supports_refit() const override { return true; }
+  /// refit() when it keeps every answer (detail::refit_covers_scene), else build(scene).
+  UpdateKind update(const Scene& scene) override;
+  bool supports_save() const override { return true; }
   /// Writes the built tree to a versioned binary file (magic, version, volume kind, primitive count, scene
   /// fingerprint, counts, checksum). Throws Error naming the file when it cannot be written.
-  void save(const std::filesystem::path& path) const;
+  void save(const std::filesystem::path& path) const override;
   /// Replaces this tree by the one in `path`, built over `scene`. Throws Error naming the file and the fault for a
   /// missing, truncated, foreign, wrong-version, wrong-volume, corrupted or wrong-scene file.
-  void load(const std::filesystem::path& path, const Scene& scene);
+  void load(const std::filesystem::path& path, const Scene& scene) override;
 
   std::size_t memory_bytes() const override;
   std::vector<BuildStatistic> build_statistics() const override { return statistics_; }

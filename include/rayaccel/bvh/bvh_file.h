@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "rayaccel/scene/scene.h"
@@ -39,9 +40,13 @@ static_assert(sizeof(BvhFileHeader) == 80, "the header is written as raw bytes")
 std::uint64_t bvh_scene_fingerprint(const Scene& scene);
 /// FNV-1a 64 of the bytes.
 std::uint64_t bvh_checksum(std::span<const std::byte> bytes);
-/// Reads a whole file; throws Error naming the file when it cannot be read.
-std::vector<std::byte> read_bvh_file(const std::filesystem::path& path);
-/// Writes a whole file; throws Error naming the file when it cannot be written.
-void write_bvh_file(const std::filesystem::path& path, std::span<const std::byte> bytes);
+/// The registry spec that loads a BVH file whose first bytes are `head` ("bvh:bv=obb,builder=sbvh"; just "bvh" when
+/// the header is cut short or of another version, which load() then reports); empty when `head` is not a BVH file.
+std::string bvh_file_spec(std::span<const std::byte> head);
+/// Reads a whole file; throws Error naming the file (as "<what> '<path>'") when it cannot be read.
+std::vector<std::byte> read_bvh_file(const std::filesystem::path& path, const std::string& what = "bvh file");
+/// Writes a whole file atomically (write_file_atomically); throws Error naming the file when it cannot be written.
+void write_bvh_file(const std::filesystem::path& path, std::span<const std::byte> bytes,
+                    const std::string& what = "bvh file");
 
 }  // namespace rayaccel

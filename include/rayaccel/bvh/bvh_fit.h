@@ -1,6 +1,6 @@
 // Bvh<BV> construction steps: flattening the build tree into the depth-first node array, fitting volumes (AABB:
 // bottom-up merge; other volumes: fitted to every hull point of the subtree, so each primitive lies inside every
-// ancestor), refit after vertex motion, and the build statistics.
+// ancestor), refit after vertex motion (and update(), which refits or rebuilds), and the build statistics.
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -167,6 +167,16 @@ void Bvh<BV>::refit() {
   copy_triangles();
   fit_volumes();
   compute_statistics(0.0);
+}
+
+template <BoundingVolume BV>
+UpdateKind Bvh<BV>::update(const Scene& scene) {
+  if (scene_ == &scene && detail::refit_covers_scene(scene, prim_ids_)) {
+    refit();
+    return UpdateKind::refitted;
+  }
+  build(scene);
+  return UpdateKind::rebuilt;
 }
 
 template <BoundingVolume BV>

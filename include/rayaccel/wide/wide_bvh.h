@@ -78,6 +78,22 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// Builds from any binary builder's tree over the scene's primitives. A tree with spatial splits may reference a
   /// primitive from several leaves (each with the box of its part); a primitive repeated within one leaf is kept once.
   void build_from(const Scene& scene, const BuildTree& tree);
+  /// Refit after the scene's vertices moved (Scene::set_vertices() or buffers_changed(); same primitives): every
+  /// Triangle4 copy is refreshed from the scene and every child box recomputed bottom-up (children follow their
+  /// parent in the node array, so one backward pass), the tree shape kept. A tree built with pre-split references
+  /// then bounds whole triangles in every leaf that holds a piece: conservative (the answers stay exact; boxes overlap
+  /// more than after a rebuild). Throws Error when nothing was built or the tree refers past the scene's primitives.
+  void refit();
+  bool supports_refit() const override { return true; }
+  /// refit() when it keeps every answer (detail::refit_covers_scene), else build(scene).
+  UpdateKind update(const Scene& scene) override;
+  bool supports_save() const override { return true; }
+  /// Writes the nodes and Triangle4 blocks to a versioned binary file (wide_bvh_file.cpp: magic, version, width,
+  /// scene fingerprint, counts, checksum), atomically. Throws Error naming the file when it cannot be written.
+  void save(const std::filesystem::path& path) const override;
+  /// Replaces this tree by the one in `path`, built over `scene`; checks, in order, size, magic, version, width (this
+  /// CPU must run it), scene, counts, checksum, then validate(). Throws Error naming the file and the fault.
+  void load(const std::filesystem::path& path, const Scene& scene) override;
   int width() const { return width_; }
   std::size_t memory_bytes() const override;
   std::vector<BuildStatistic> build_statistics() const override;
@@ -144,6 +160,12 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// Calls query.test() for every triangle of the leaf `ref`.
   template <class Query>
   void test_leaf(std::uint32_t ref, Query& query) const;
+  /// Every primitive id the leaves hold (padding lanes skipped).
+  std::vector<std::uint32_t> leaf_prim_ids() const;
+  /// Box of the primitives a leaf reference holds, from the scene's current bounds.
+  AABB leaf_box(std::uint32_t ref) const;
+  template <int W>
+  void refit_nodes(NodeArray<W>& nodes);
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
