@@ -9,6 +9,7 @@
 // library (src/geometry/exact_edge.cpp), so the caller's floating-point flags cannot change it.
 #pragma once
 
+#include "rayaccel/core/dvec3.h"
 #include "rayaccel/core/vec3.h"
 
 namespace rayaccel {
@@ -25,5 +26,9 @@ struct ExactEdge {
 /// its error bound decides the sign, else exactly. Inputs must be finite.
 ExactEdge exact_edge_function(const Vec3& origin, const Vec3& direction, int kx, int ky, int kz, const Vec3& p,
                               const Vec3& q);
+/// The same for the double path's inputs, which must lie in the double domain (core/ray_d.h); outside it the
+/// expansion may overflow or underflow and the sign is not guaranteed.
+ExactEdge exact_edge_function(const DVec3& origin, const DVec3& direction, int kx, int ky, int kz, const DVec3& p,
+                              const DVec3& q);
 
 }  // namespace rayaccel
