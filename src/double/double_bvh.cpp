@@ -10,7 +10,10 @@ void DoubleBvh::build(const DoubleScene& scene) {
   UserPrimitives prims;
   prims.count = scene.triangle_count();
   const DoubleScene* s = &scene;
-  prims.bounds = [s](std::uint32_t id) { return s->triangle_box(id); };
+  const AABB& bounds = scene.bounds();
+  anchor_ = bounds.is_empty() ? DVec3{} : (DVec3(bounds.lo) + DVec3(bounds.hi)) * 0.5;
+  const DVec3 anchor = anchor_;
+  prims.bounds = [s, anchor](std::uint32_t id) { return anchored_float_box(s->triangle(id), anchor); };
   // The float tree only needs boxes; its own traversal is never run over them.
   prims.intersect = [](std::uint32_t, const PreparedRay&, Hit&) { return false; };
   boxes_ = Scene::from_user(std::move(prims), "double boxes");
@@ -40,13 +43,9 @@ std::vector<std::string> DoubleBvh::validate() const {
     if (!nodes[n].is_leaf()) continue;
     const AABB& box = nodes[n].volume.box;
     for (std::uint32_t slot = nodes[n].index; slot < nodes[n].index + nodes[n].count; ++slot) {
-      for (const DVec3& p : triangles_[slot]) {
-        for (int a = 0; a < 3; ++a) {
-          if (!(p[a] >= double(box.lo[a]) && p[a] <= double(box.hi[a]))) {
-            problems.push_back("double bvh: triangle " + std::to_string(prim_ids_[slot]) + " leaves the box of node " +
-                               std::to_string(n));
-          }
-        }
+      if (!box.contains(anchored_float_box(triangles_[slot], anchor_))) {
+        problems.push_back("double bvh: triangle " + std::to_string(prim_ids_[slot]) + " leaves the box of node " +
+                           std::to_string(n));
       }
     }
   }

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "rayaccel/core/error.h"
-#include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/ray_d.h"
+#include "rayaccel/geometry/ray_box_d.h"
 
 namespace rayaccel {
 namespace {
@@ -42,11 +42,7 @@ DoubleScene::DoubleScene(TriangleMeshD mesh) : mesh_(std::move(mesh)) {
       }
       triangles_[t][k] = mesh_.vertices[idx[k]];
     }
-    AABB box;
-    for (const DVec3& p : triangles_[t]) {
-      box.extend(AABB({round_down_to_float(p.x), round_down_to_float(p.y), round_down_to_float(p.z)},
-                      {round_up_to_float(p.x), round_up_to_float(p.y), round_up_to_float(p.z)}));
-    }
+    const AABB box = anchored_float_box(triangles_[t], DVec3{});
     boxes_[t] = box;
     bounds_.extend(box);
   }

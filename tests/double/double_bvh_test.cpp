@@ -3,6 +3,7 @@
 // parser's errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -40,7 +41,8 @@ class DoubleBvhBuilders : public ::testing::TestWithParam<std::string> {};
 TEST_P(DoubleBvhBuilders, MatchesBruteForceOnRandomAndAdversarialRays) {
   for (const auto& [name, params, scale] :
        {std::tuple<const char*, std::map<std::string, std::string>, double>{"sphere", {{"level", "3"}}, 10.0},
-        {"soup", {{"count", "2000"}}, 5.0}}) {
+        {"soup", {{"count", "2000"}}, 5.0},
+        {"sphere", {{"level", "2"}}, 0.05}}) {  // 5 cm across: far below float's ulp at 1e7
     const DoubleScene scene(far_mesh(name, params, scale));
     auto brute = make_double_accelerator("brute_force");
     auto bvh = make_double_accelerator("bvh:builder=" + GetParam());
@@ -62,6 +64,23 @@ TEST_P(DoubleBvhBuilders, MatchesBruteForceOnRandomAndAdversarialRays) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, DoubleBvhBuilders, ::testing::Values("binned", "sweep", "lbvh", "ploc", "sbvh"));
+
+TEST(DoubleBvh, BoxesKeepFloatResolutionFarFromTheOrigin) {
+  // A 10 cm sphere near 1e7: boxes rounded to float at 1e7 would be a metre wide (the ulp there); relative to the
+  // anchor, the root box is as wide as the sphere and leaves are far smaller.
+  const DoubleScene scene(far_mesh("sphere", {{"level", "3"}}, 0.05));
+  DoubleBvh bvh;
+  bvh.build(scene);
+  ASSERT_TRUE(bvh.validate().empty()) << bvh.validate().front();
+  const auto& nodes = bvh.tree().nodes();
+  EXPECT_LT(nodes[0].volume.box.extent().x, 0.11f);
+  double widest_leaf = 0.0;
+  for (const auto& node : nodes) {
+    if (node.is_leaf()) widest_leaf = std::max(widest_leaf, double(max_component(node.volume.box.extent())));
+  }
+  EXPECT_LT(widest_leaf, 0.05);
+  EXPECT_GT(scene.triangle_box(0).extent().x, 0.9f);  // the absolute box at 1e7: float's metre grid
+}
 
 TEST(DoubleBvh, BatchesMatchSingleRays) {
   const DoubleScene scene(far_mesh("sphere", {{"level", "3"}}, 10.0));

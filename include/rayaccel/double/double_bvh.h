@@ -1,8 +1,9 @@
 // The BVH in double: the tree is Bvh<AabbVolume> (any of its builders: binned SAH after Wald 2007, sweep, lbvh,
-// ploc, sbvh with object splits only) built over float boxes rounded outward from the double triangles, so every box
-// contains its triangles exactly; traversal tests a double ray against those boxes conservatively (Ize 2013,
-// geometry/ray_box_d.h) and leaves with the double watertight kernel (Woop, Benthin, Wald 2013,
-// geometry/ray_triangle_d.h).
+// ploc, sbvh with object splits only) built over float boxes rounded outward from the double triangles taken relative
+// to an anchor (the centre of the scene's bounds), so every box contains its triangles exactly and keeps float's
+// resolution near the scene (not float's ulp at 1e7, which is 1); traversal tests a double ray against those boxes
+// conservatively (Ize 2013, geometry/ray_box_d.h) and leaves with the double watertight kernel (Woop, Benthin, Wald
+// 2013, geometry/ray_triangle_d.h).
 #pragma once
 
 #include <array>
@@ -41,7 +42,8 @@ class DoubleBvh final : public DoubleAcceleratorImpl<DoubleBvh> {
 
  private:
   Bvh<AabbVolume> tree_;
-  Scene boxes_;                                  ///< the float boxes as user primitives: what tree_ is built over
+  DVec3 anchor_;                                 ///< the boxes' origin
+  Scene boxes_;                                  ///< the float boxes (relative to anchor_) as user primitives
   std::vector<std::array<DVec3, 3>> triangles_;  ///< per leaf slot: the double triangle, in leaf order
   std::vector<std::uint32_t> prim_ids_;          ///< per leaf slot: the scene's triangle id
 };
@@ -50,8 +52,9 @@ template <bool AnyHit>
 void DoubleBvh::trace(const PreparedRayD& ray, HitD& hit) const {
   const auto& nodes = tree_.nodes();
   if (nodes.empty()) return;
+  const BoxFrameD frame(ray, anchor_);
   double t_entry = ray.t_min;
-  if (!intersect_box(ray, nodes[0].volume.box, ray.t_min, double_bvh_cull_bound(hit.t), &t_entry)) return;
+  if (!intersect_box(ray, frame, nodes[0].volume.box, ray.t_min, double_bvh_cull_bound(hit.t), &t_entry)) return;
   struct Entry {
     std::uint32_t node;
     double t_entry;
@@ -70,8 +73,8 @@ void DoubleBvh::trace(const PreparedRayD& ray, HitD& hit) const {
       const std::uint32_t first = current + 1, second = node.index;
       double t_first = ray.t_min, t_second = ray.t_min;
       const double t_far = double_bvh_cull_bound(hit.t);
-      const bool hit_first = intersect_box(ray, nodes[first].volume.box, ray.t_min, t_far, &t_first);
-      const bool hit_second = intersect_box(ray, nodes[second].volume.box, ray.t_min, t_far, &t_second);
+      const bool hit_first = intersect_box(ray, frame, nodes[first].volume.box, ray.t_min, t_far, &t_first);
+      const bool hit_second = intersect_box(ray, frame, nodes[second].volume.box, ray.t_min, t_far, &t_second);
       if (hit_first && hit_second) {
         if (!AnyHit && t_second < t_first) {
           stack[top++] = {first, t_first};
