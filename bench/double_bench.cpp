@@ -1,8 +1,9 @@
 // The cost of the double-precision path against float (issue #21): the same scene (a shared mesh, at its own
 // coordinates and, for double, also moved to 1e7), the same primary rays (the standard camera, every other pixel of
 // 1024 x 1024 in each direction), one thread, one ray at a time, closest hit, float bvh (binned SAH, AABB) and the
-// default float bvh_wide against the double bvh built by the same builder over outward-rounded float boxes (double/double_bvh.h; kernels after Woop, Benthin, Wald 2013
-// and Ize 2013). Hits are checked against each other before timing.
+// default float bvh_wide against the double bvh built by the same builder over outward-rounded float boxes
+// (double/double_bvh.h; kernels after Woop, Benthin, Wald 2013 and Ize 2013). Hits are checked against each other
+// before timing.
 #include <benchmark/benchmark.h>
 
 #include <cmath>

@@ -11,6 +11,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "rayaccel/core/dvec3.h"
+
 namespace rayaccel {
 namespace {
 

@@ -1,6 +1,7 @@
 // The double-precision ray, its per-ray constants and its hit record (RayD, PreparedRayD, HitD): Ray, PreparedRay and
 // Hit (ray.h, hit.h) with double coordinates and t, for the double path. Shear constants after Woop, Benthin, Wald
-// 2013, "Watertight Ray/Triangle Intersection" (JCGT 2(1)); reciprocal direction and signs for the slab test (Ize 2013).
+// 2013, "Watertight Ray/Triangle Intersection" (JCGT 2(1)); reciprocal direction and signs for the slab test
+// (Ize 2013).
 //
 // The double domain: every coordinate the double path takes (vertices, ray origins, ray directions) is 0 or has a
 // magnitude in [2^-64, 2^64] (about 5.4e-20 to 1.8e19). Inside it, every product the exact edge functions form

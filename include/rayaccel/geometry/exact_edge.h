@@ -9,10 +9,11 @@
 // library (src/geometry/exact_edge.cpp), so the caller's floating-point flags cannot change it.
 #pragma once
 
-#include "rayaccel/core/dvec3.h"
 #include "rayaccel/core/vec3.h"
 
 namespace rayaccel {
+
+struct DVec3;  // core/dvec3.h: declared only, so the float code that includes this header does not see double types
 
 /// An edge function with its exact sign and its value to within `error`.
 struct ExactEdge {

@@ -83,8 +83,8 @@ inline bool intersect_triangle(const PreparedRayD& r, const DVec3& v0, const DVe
   if (!(t > r.t_min && t < hit.t)) return false;
   const double abs_zs = std::fabs(zs);
   const double range_zt = abs_zs * (std::max({az, bz, cz}) - std::min({az, bz, cz}));
-  const double t_error =
-      ((3.0 * edge_error) * std::fabs(inv_det) * range_zt + double_gamma(12) * abs_zs * max_z) * WatertightBoundsD::kSlack;
+  const double t_error = ((3.0 * edge_error) * std::fabs(inv_det) * range_zt + double_gamma(12) * abs_zs * max_z) *
+                         WatertightBoundsD::kSlack;
   if (!(t > r.t_min + t_error)) return false;
   hit.t = t;
   hit.prim_id = prim_id;
