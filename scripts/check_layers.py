@@ -21,7 +21,8 @@ LAYERS = [
     ["simd", "bv"],  # lane sets, Triangle4 blocks, the SIMD box and triangle kernels, CPU/ISA dispatch; bounding volumes
     ["accel"],     # the Accelerator interface and registry, and the spatial subdivisions
     ["bvh"],       # Bvh<BV> and its builders
-    ["wide"],      # the wide BVH (built from bvh's binary trees)
+    ["wide", "double"],  # the wide BVH (built from bvh's binary trees); the double-precision path (DoubleScene, its
+                         # brute force and BVH over outward-rounded float boxes, make_double_accelerator)
     ["generalized"],  # beams and cones traced over the BVH family and the wide BVH
     ["compare", "render", "query", "instance"],  # Embree adapter; cameras, workloads, shading, images; inside tests,
     # signed distance; two-level structures over instanced scenes

@@ -4,10 +4,14 @@
 // into a nonoverlapping expansion whose largest component has the sign of the exact sum. Float inputs keep every
 // intermediate far from double's overflow and underflow thresholds: a term is a product of at most three floats'
 // parts (|x| < 2^129 each, nonzero parts >= 2^-149), so every value and rounding error stays within 2^-600..2^400.
+// The same holds for doubles of the double domain (core/ray_d.h: 0 or 2^-64 <= |x| <= 2^64): every difference and
+// split part is a multiple of 2^-116 below 2^66, so every product of three is a multiple of 2^-348 below 2^200.
 #include "rayaccel/geometry/exact_edge.h"
 
 #include <cassert>
 #include <cmath>
+
+#include "rayaccel/core/dvec3.h"
 
 namespace rayaccel {
 namespace {
@@ -71,8 +75,8 @@ class Expansion {
   int size_ = 0;
 };
 
-/// a - b of two floats, exactly.
-TwoDoubles difference(float a, float b) { return two_sum(double(a), -double(b)); }
+/// a - b of two floats or two doubles, exactly (doubles of the double domain cannot overflow).
+TwoDoubles difference(double a, double b) { return two_sum(a, -b); }
 
 /// Adds coefficient * (a_i b_j - a_j b_i) to `sum`, exactly.
 void add_scaled_minor(Expansion& sum, double coefficient, const TwoDoubles& a_i, const TwoDoubles& a_j,
@@ -103,8 +107,8 @@ struct DoubleEdge {
   double g, error;
 };
 
-DoubleEdge double_edge_times_dz(const Vec3& origin, const Vec3& direction, const int axes[3], const Vec3& p,
-                                const Vec3& q) {
+template <class V>
+DoubleEdge double_edge_times_dz(const V& origin, const V& direction, const int axes[3], const V& p, const V& q) {
   double pa[3], qa[3];
   for (int i = 0; i < 3; ++i) {
     pa[i] = double(p[axes[i]]) - double(origin[axes[i]]);
@@ -123,10 +127,9 @@ DoubleEdge double_edge_times_dz(const Vec3& origin, const Vec3& direction, const
   return {g, 10.0 * 0x1p-53 * permanent};
 }
 
-}  // namespace
-
-ExactEdge exact_edge_function(const Vec3& origin, const Vec3& direction, int kx, int ky, int kz, const Vec3& p,
-                              const Vec3& q) {
+/// Both overloads: V is Vec3 or DVec3.
+template <class V>
+ExactEdge exact_edge(const V& origin, const V& direction, int kx, int ky, int kz, const V& p, const V& q) {
   const int axes[3] = {kx, ky, kz};
   const double dz = direction[kz];
   const int dz_sign = dz > 0.0 ? 1 : -1;
@@ -149,6 +152,18 @@ ExactEdge exact_edge_function(const Vec3& origin, const Vec3& direction, int kx,
   e.value = e.sign == 0 ? 0.0 : g.estimate() / dz;
   e.error = std::fabs(e.value) * 0x1p-50;
   return e;
+}
+
+}  // namespace
+
+ExactEdge exact_edge_function(const Vec3& origin, const Vec3& direction, int kx, int ky, int kz, const Vec3& p,
+                              const Vec3& q) {
+  return exact_edge(origin, direction, kx, ky, kz, p, q);
+}
+
+ExactEdge exact_edge_function(const DVec3& origin, const DVec3& direction, int kx, int ky, int kz, const DVec3& p,
+                              const DVec3& q) {
+  return exact_edge(origin, direction, kx, ky, kz, p, q);
 }
 
 }  // namespace rayaccel

@@ -13,6 +13,8 @@
 
 namespace rayaccel {
 
+struct DVec3;  // core/dvec3.h: declared only, so the float code that includes this header does not see double types
+
 /// An edge function with its exact sign and its value to within `error`.
 struct ExactEdge {
   int sign = 0;        ///< -1, 0 or +1: the sign of the exact value
@@ -25,5 +27,9 @@ struct ExactEdge {
 /// its error bound decides the sign, else exactly. Inputs must be finite.
 ExactEdge exact_edge_function(const Vec3& origin, const Vec3& direction, int kx, int ky, int kz, const Vec3& p,
                               const Vec3& q);
+/// The same for the double path's inputs, which must lie in the double domain (core/ray_d.h); outside it the
+/// expansion may overflow or underflow and the sign is not guaranteed.
+ExactEdge exact_edge_function(const DVec3& origin, const DVec3& direction, int kx, int ky, int kz, const DVec3& p,
+                              const DVec3& q);
 
 }  // namespace rayaccel
