@@ -176,6 +176,24 @@ TEST(RayTriangle, HugeAndTinyCoordinates) {
   }
 }
 
+TEST(RayTriangle, LongDirectionsKeepTheTOfRescaledTriangles) {
+  // A triangle 1e36 across is scaled by a power of two into the safe range; a direction 1e28 long then made each
+  // vertex's depth times 1 / d[kz] underflow (2^-54 * 2^-93) before the scale was undone, and t came out near 0.
+  const Triangle wide{Vec3{-1e36f, -1e36f, 1e20f}, Vec3{3e36f, -1e36f, 1e20f}, Vec3{-1e36f, 3e36f, 1e20f}};
+  Hit hit;
+  ASSERT_TRUE(hit_triangle(Ray{{0, 0, 0}, 0.0f, {0, 0, 1e28f}, kInf}, wide, &hit));
+  EXPECT_NEAR(hit.t, 1e-8f, 1e-8f * 1e-5f);
+  // The fuzz input that found it (tests/fuzz/corpus/fuzz_differential/long-direction-rescaled-t): the exact t is 1
+  // (rational arithmetic on these floats), which float reported as 0, inside a range that ends at 0.0027.
+  const Triangle far{Vec3{0x1.8p-2f, -0x1.4f126ep+38f, -0x1.16ce48p-65f}, Vec3{0x1.40c92cp+87f, -0x1.2p+0f, 0x1.8p+0f},
+                     Vec3{-0x1.67db44p+47f, -0x1.5p+1f, 0x1.2ced32p+127f}};
+  const Vec3 origin{0x1.8p+2f, -0x1.8b4b0ap+93f, -0x1.b7e83ep-90f};
+  const Vec3 direction{0x1.40c92cp+86f, 0x1.8b4b0ap+93f, 0x1.8p-1f};
+  ASSERT_TRUE(hit_triangle(Ray{origin, -4.0f, direction, kInf}, far, &hit));
+  EXPECT_NEAR(hit.t, 1.0f, 1e-5f);
+  EXPECT_FALSE(hit_triangle(Ray{origin, -4.0f, direction, 0x1.670bdep-9f}, far));
+}
+
 /// Vertices of an n x n grid of unit quads on a tilted plane (each vertex rounded on its own, so the grid is only
 /// nearly planar); two triangles per quad, vertices shared.
 struct Grid {

@@ -105,13 +105,14 @@ struct TriangleErrorBounds {
 };
 
 /// Bound on the error of the t computed from edge functions with error at most `edge_error` and 1 / det = inv_det:
-/// 3 edge_error |inv_det| times the depth range, plus gamma(12) of the largest vertex distance (in the units of `s`:
-/// multiply by the same t_unscale as t).
-inline float t_error_bound(const PreparedRay& r, const TriangleErrorBounds& b, float edge_error, float inv_det) {
-  const float abs_shear_z = std::fabs(r.shear_z);
-  const float max_zt = abs_shear_z * b.max_z;
-  const float range_zt = abs_shear_z * (b.hi_z - b.lo_z);
-  return (((3.0f * edge_error) * std::fabs(inv_det)) * range_zt + float_gamma(12) * max_zt) * WatertightBounds::kSlack;
+/// 3 edge_error |inv_det| times the depth range, plus gamma(12) of the largest vertex distance, measured along the
+/// dominant axis in the units of `s`, then brought to the ray's t as t is (times t_unscale, then |shear_z|).
+inline float t_error_bound(const PreparedRay& r, const TriangleErrorBounds& b, float edge_error, float inv_det,
+                           float t_unscale) {
+  const float depth_error =
+      (((3.0f * edge_error) * std::fabs(inv_det)) * (b.hi_z - b.lo_z) + float_gamma(12) * b.max_z) *
+      WatertightBounds::kSlack;
+  return (depth_error * t_unscale) * std::fabs(r.shear_z);
 }
 
 /// An edge function's exact value rounded to float, keeping its sign: a nonzero value too small for float becomes
@@ -192,14 +193,15 @@ inline bool finish_sheared_triangle(const PreparedRay& r, const ShearedTriangle&
     det = (e.u + e.v) + e.w;
   }
   if (det == 0.0f) return false;
-  const float az = r.shear_z * s.az;
-  const float bz = r.shear_z * s.bz;
-  const float cz = r.shear_z * s.cz;
-  const float scaled_t = (e.u * az + e.v * bz) + e.w * cz;
+  // The hit's depth along the dominant axis in the units of `s`, brought to the ray's t last: products of three
+  // coordinates stay in float's range (in_safe_range), and the one multiplication by shear_z = 1 / d[kz] comes
+  // after the scale is undone, so a long direction (tiny shear_z) or a short one (huge shear_z) underflows or
+  // overflows only when t itself does.
+  const float scaled_depth = (e.u * s.az + e.v * s.bz) + e.w * s.cz;
   const float inv_det = 1.0f / det;
-  const float t = scaled_t * inv_det * t_unscale;
+  const float t = ((scaled_depth * inv_det) * t_unscale) * r.shear_z;
   if (!(t > r.t_min && t < hit.t)) return false;
-  if (!(t > r.t_min + t_error_bound(r, b, edge_error, inv_det) * t_unscale)) return false;
+  if (!(t > r.t_min + t_error_bound(r, b, edge_error, inv_det, t_unscale))) return false;
   hit.t = t;
   hit.prim_id = prim_id;
   hit.u = e.v * inv_det;

@@ -94,23 +94,19 @@ struct WatertightLanes {
         S::ge(S::mul(edge_error, S::set1(WatertightBounds::kIllConditioned)), S::and_not(sign_bit, det));
     const F unsafe = S::and_not(safe, S::all_ones());
     on_edge = S::movemask(S::and_not(decided, S::bit_or(S::bit_or(in_band, ill_conditioned), unsafe)));
-    const F az = S::mul(shear_z, pz[0]);
-    const F bz = S::mul(shear_z, pz[1]);
-    const F cz = S::mul(shear_z, pz[2]);
-    const F scaled_t = S::add(S::add(S::mul(eu, az), S::mul(ev, bz)), S::mul(ew, cz));
+    // t as finish_sheared_triangle() computes it: the depth first, shear_z last.
+    const F scaled_depth = S::add(S::add(S::mul(eu, pz[0]), S::mul(ev, pz[1])), S::mul(ew, pz[2]));
     inv_det = S::div(S::set1(1.0f), det);
-    t = S::mul(scaled_t, inv_det);
+    t = S::mul(S::mul(scaled_depth, inv_det), shear_z);
     // t must clear t_min by more than its error bound: t_error_bound() of ray_triangle.h, operation for operation
     // (so SIMD and scalar accept the same hits).
     const F hi_z = S::max(pz[0], S::max(pz[1], pz[2]));
     const F lo_z = S::min(pz[0], S::min(pz[1], pz[2]));
-    const F abs_shear_z = S::and_not(sign_bit, shear_z);
-    const F max_zt = S::mul(abs_shear_z, max_z);
-    const F range_zt = S::mul(abs_shear_z, S::sub(hi_z, lo_z));
-    const F t_error =
-        S::mul(S::add(S::mul(S::mul(S::mul(S::set1(3.0f), edge_error), S::and_not(sign_bit, inv_det)), range_zt),
-                      S::mul(S::set1(float_gamma(12)), max_zt)),
-               S::set1(WatertightBounds::kSlack));
+    const F depth_error = S::mul(
+        S::add(S::mul(S::mul(S::mul(S::set1(3.0f), edge_error), S::and_not(sign_bit, inv_det)), S::sub(hi_z, lo_z)),
+               S::mul(S::set1(float_gamma(12)), max_z)),
+        S::set1(WatertightBounds::kSlack));
+    const F t_error = S::mul(depth_error, S::and_not(sign_bit, shear_z));
     const F valid = S::and_not(
         decided, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(t_min, t_error)), S::lt(t, t_far))));
     hits = S::movemask(valid) & ~on_edge;
