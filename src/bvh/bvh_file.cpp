@@ -32,6 +32,18 @@ std::uint64_t bvh_checksum(std::span<const std::byte> bytes) {
   return h;
 }
 
+void check_size_and_checksum(std::span<const std::byte> bytes, std::size_t expected, const std::string& where) {
+  if (bytes.size() != expected) {
+    throw Error(where + (bytes.size() < expected ? "truncated" : "has trailing bytes") + " (" +
+                std::to_string(bytes.size()) + " bytes, the counts give " + std::to_string(expected) + ")");
+  }
+  std::uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + expected - sizeof stored, sizeof stored);
+  if (stored != bvh_checksum(bytes.first(expected - sizeof stored))) {
+    throw Error(where + "checksum mismatch (the file is corrupted)");
+  }
+}
+
 std::uint64_t bvh_scene_fingerprint(const Scene& scene) {
   std::uint64_t h = kFnvOffset;
   const auto kind = static_cast<std::uint32_t>(scene.kind());

@@ -103,15 +103,7 @@ void WideBvh::load(const std::filesystem::path& path, const Scene& scene) {
   if (h.flags > (kSpatialSplitsFlag | kTrianglesFlag)) throw Error(where + "unknown flags in the header");
   const std::size_t expected = sizeof h + std::size_t{h.node_count} * node_bytes(h.width) +
                                std::size_t{h.block_count} * sizeof(Triangle4) + sizeof(std::uint64_t);
-  if (bytes.size() != expected) {
-    throw Error(where + (bytes.size() < expected ? "truncated" : "has trailing bytes") + " (" +
-                std::to_string(bytes.size()) + " bytes, the counts give " + std::to_string(expected) + ")");
-  }
-  std::uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + expected - sizeof stored, sizeof stored);
-  if (stored != bvh_checksum(std::span<const std::byte>(bytes.data(), expected - sizeof stored))) {
-    throw Error(where + "checksum mismatch (the file is corrupted)");
-  }
+  check_size_and_checksum(bytes, expected, where);
   // The file is sound: take it over, then check the tree itself (a failure leaves this object empty but usable).
   scene_ = &scene;
   width_ = static_cast<int>(h.width);

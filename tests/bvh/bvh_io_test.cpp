@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include "../file_bytes.h"
 #include "bvh_test_scenes.h"
 #include "rayaccel/bv/capsule_volume.h"
 #include "rayaccel/bv/hull_volume.h"
@@ -18,28 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<char> read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_all(const fs::path& p, const std::vector<char>& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
-/// Runs f and expects an Error whose message names the file and contains `fault`.
-template <class F>
-void expect_error(F f, const fs::path& file, const std::string& fault) {
-  try {
-    f();
-    ADD_FAILURE() << "no error for " << fault;
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(file.string()), std::string::npos) << message;
-    EXPECT_NE(message.find(fault), std::string::npos) << message;
-  }
-}
+using testing::expect_error;
+using testing::read_all;
+using testing::write_all;
 
 class BvhSaveLoad : public ::testing::TestWithParam<BvhBuilder> {
  protected:

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../file_bytes.h"
 #include "oracle.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
@@ -30,28 +31,9 @@ std::vector<std::string> specs_where(bool (Accelerator::*supports)() const, bool
   return out;
 }
 
-std::vector<char> read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_all(const fs::path& p, const std::vector<char>& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
-/// Runs f and expects an Error whose message names `file` and contains `fault`.
-template <class F>
-void expect_error(F f, const std::string& file, const std::string& fault) {
-  try {
-    f();
-    ADD_FAILURE() << "no error for " << fault;
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(file), std::string::npos) << message;
-    EXPECT_NE(message.find(fault), std::string::npos) << message;
-  }
-}
+using testing::expect_error;
+using testing::read_all;
+using testing::write_all;
 
 class SaveLoad : public ConformanceTest {
  protected:

@@ -40,6 +40,10 @@ static_assert(sizeof(BvhFileHeader) == 80, "the header is written as raw bytes")
 std::uint64_t bvh_scene_fingerprint(const Scene& scene);
 /// FNV-1a 64 of the bytes.
 std::uint64_t bvh_checksum(std::span<const std::byte> bytes);
+/// Checks that a saved file is exactly `expected` bytes long (its counts' total, the trailing checksum included) and
+/// that its last 8 bytes are the checksum of the rest; throws Error prefixed by `where` ("bvh file 'x': ") naming
+/// the fault: truncated, trailing bytes, or corrupted.
+void check_size_and_checksum(std::span<const std::byte> bytes, std::size_t expected, const std::string& where);
 /// The registry spec that loads a BVH file whose first bytes are `head` ("bvh:bv=obb,builder=sbvh"; just "bvh" when
 /// the header is cut short or of another version, which load() then reports); empty when `head` is not a BVH file.
 std::string bvh_file_spec(std::span<const std::byte> head);

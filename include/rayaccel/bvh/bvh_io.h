@@ -81,15 +81,7 @@ void Bvh<BV>::load(const std::filesystem::path& path, const Scene& scene) {
   const std::size_t expected = sizeof h + std::size_t{h.node_count} * sizeof(Node) +
                                std::size_t{h.slot_count} * sizeof(std::uint32_t) +
                                std::size_t{h.part_count} * sizeof(AABB) + sizeof(std::uint64_t);
-  if (bytes.size() != expected) {
-    throw Error(where + (bytes.size() < expected ? "truncated" : "has trailing bytes") + " (" +
-                std::to_string(bytes.size()) + " bytes, the counts give " + std::to_string(expected) + ")");
-  }
-  std::uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + expected - sizeof stored, sizeof stored);
-  if (stored != bvh_checksum(std::span<const std::byte>(bytes.data(), expected - sizeof stored))) {
-    throw Error(where + "checksum mismatch (the file is corrupted)");
-  }
+  check_size_and_checksum(bytes, expected, where);
   BvhOptions config = config_;
   config.builder = static_cast<BvhBuilder>(h.builder);
   config.max_leaf_size = h.max_leaf_size;
