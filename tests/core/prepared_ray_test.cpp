@@ -148,7 +148,7 @@ TEST(PreparedRay, ShearSetUpMatchesTheDefinitionBitForBit) {
   const auto same_bits = [](float x, float y) { return std::memcmp(&x, &y, sizeof(float)) == 0; };
   for (const Vec3& d : directions) {
     const PreparedRay r(Ray{{0, 0, 0}, 0.0f, d, kInf});
-    const ReferenceShear want(d);
+    const ReferenceShear want(readable_direction(d));  // the direction as kernels read it (subnormals are zero)
     ASSERT_EQ(r.kz, want.kz) << d.x << " " << d.y << " " << d.z;
     ASSERT_EQ(r.kx, want.kx) << d.x << " " << d.y << " " << d.z;
     ASSERT_EQ(r.ky, want.ky) << d.x << " " << d.y << " " << d.z;

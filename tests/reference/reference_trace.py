@@ -161,6 +161,8 @@ def edge_exactly(origin, direction, axes, p, q):
 def trace_ray(mesh, ray):
     """(t, prim, u, v) of the closest hit with t_min < t <= t_max, or the miss record."""
     origin, t_min, direction, t_max = ray[0:3], ray[3], ray[4:7], ray[7]
+    # Subnormal direction components read as zero of their sign (their reciprocals overflow float).
+    direction = np.where(np.abs(direction) < np.finfo(np.float32).tiny, np.copysign(F32(0), direction), direction)
     miss = (F32(np.inf), MISS_PRIM, F32(0), F32(0))
     valid = (np.all(np.isfinite(origin)) and np.all(np.isfinite(direction)) and np.any(direction != 0)
              and not np.isnan(t_min) and not np.isnan(t_max) and t_min <= t_max)
@@ -225,17 +227,13 @@ def trace_ray(mesh, ray):
     negative = (eu < 0) | (ev < 0) | (ew < 0)
     positive = (eu > 0) | (ev > 0) | (ew > 0)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        az = sz * pz[0]
-        bz = sz * pz[1]
-        cz = sz * pz[2]
-        scaled_t = (eu * az + ev * bz) + ew * cz
+        # The depth along the dominant axis first, brought to t by the one multiplication by sz last.
+        scaled_depth = (eu * pz[0] + ev * pz[1]) + ew * pz[2]
         inv_det = F32(1) / det
-        t = scaled_t * inv_det
+        t = (scaled_depth * inv_det) * sz
         # The bound on t's error: t_error_bound() in ray_triangle.h, operation for operation.
-        abs_sz = np.abs(sz)
-        max_zt = abs_sz * max_z
-        range_zt = abs_sz * (hi_z - lo_z)
-        bound = (((F32(3) * edge_error) * np.abs(inv_det)) * range_zt + gamma(12) * max_zt) * SLACK
+        depth_error = (((F32(3) * edge_error) * np.abs(inv_det)) * (hi_z - lo_z) + gamma(12) * max_z) * SLACK
+        bound = depth_error * np.abs(sz)
         clears_t_min = t > F32(t_min) + bound
     upper = np.nextafter(F32(t_max), F32(np.inf))  # exclusive bound, as Hit::begin sets it
     accept = ~surely_mixed & ~(negative & positive) & (det != 0) & (t > t_min) & (t < upper) & clears_t_min
