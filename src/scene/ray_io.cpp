@@ -1,10 +1,12 @@
-// The raw little-endian .rays / .hits / .occ / .points / .closest / .counts exchange files: every record is a sequence of 4-byte words (or bytes),
+// The raw little-endian .rays / .hits / .occ / .points / .closest / .counts exchange files, whose records are
+// sequences of 4-byte words (or bytes), and the double path's .rays64 / .hits64, whose records are 8-byte words:
 // copied as is on little-endian hosts and byte-swapped per word elsewhere.
 #include "rayaccel/scene/ray_io.h"
 
 #include <algorithm>
 #include <bit>
 #include <cerrno>
+#include <cstddef>
 #include <cstring>
 #include <fstream>
 #include <new>
@@ -14,6 +16,7 @@
 #include <type_traits>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/ray_d.h"
 #include "rayaccel/core/output_file.h"
 
 namespace rayaccel {
@@ -22,21 +25,35 @@ namespace {
 
 static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559, "the files hold IEEE-754 float32");
 static_assert(sizeof(Vec3) == 12, "a .points record is three float32");
+static_assert(sizeof(double) == 8 && std::numeric_limits<double>::is_iec559, "the 64 files hold IEEE-754 float64");
+static_assert(sizeof(RayD) == 64 && offsetof(RayD, t_min) == 24 && offsetof(RayD, t_max) == 56,
+              "a .rays64 record is RayD: eight float64");
+
+/// A .hits64 record as 8-byte words: prim_id and the zero padding after it form one little-endian word (prim_id in
+/// its low half), so the record is swapped per 8-byte word like a .rays64 one.
+struct HitRecordD {
+  double t;
+  std::uint64_t prim_id_and_padding;
+  double u;
+  double v;
+};
+static_assert(sizeof(HitRecordD) == 32, "a .hits64 record is 32 bytes");
 
 std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 
-/// Reverses the bytes of every 4-byte word on big-endian hosts (a no-op on little-endian ones).
+/// Reverses the bytes of every `Word`-byte word on big-endian hosts (a no-op on little-endian ones).
+template <std::size_t Word>
 void to_or_from_little_endian(unsigned char* bytes, std::size_t size) {
   if constexpr (std::endian::native != std::endian::little) {
-    for (std::size_t i = 0; i + 4 <= size; i += 4) std::reverse(bytes + i, bytes + i + 4);
+    for (std::size_t i = 0; i + Word <= size; i += Word) std::reverse(bytes + i, bytes + i + Word);
   } else {
     (void)bytes;
     (void)size;
   }
 }
 
-/// Reads the whole file as `record_size`-byte records into a vector of T (a record of 4-byte words).
-template <class T>
+/// Reads the whole file as records T (each a sequence of `Word`-byte words).
+template <class T, std::size_t Word = 4>
 std::vector<T> read_records(const std::filesystem::path& path, const char* what) {
   static_assert(std::is_trivially_copyable_v<T>);
   // Only regular files: their size is known before reading (a device such as /dev/zero would be read forever).
@@ -71,19 +88,19 @@ std::vector<T> read_records(const std::filesystem::path& path, const char* what)
     throw Error("cannot read " + std::string(what) + " file " + quoted(path) + ": it ended before its " +
                 std::to_string(size) + " bytes (read error or truncated while reading)");
   }
-  if constexpr (sizeof(T) % 4 == 0) {
-    to_or_from_little_endian(reinterpret_cast<unsigned char*>(records.data()), size);
+  if constexpr (sizeof(T) % Word == 0) {
+    to_or_from_little_endian<Word>(reinterpret_cast<unsigned char*>(records.data()), size);
   }
   return records;
 }
 
-template <class T>
+template <class T, std::size_t Word = 4>
 void write_records(const std::filesystem::path& path, std::span<const T> records, const char* what) {
   static_assert(std::is_trivially_copyable_v<T>);
   std::vector<std::byte> bytes(records.size_bytes());
   if (!bytes.empty()) std::memcpy(bytes.data(), records.data(), bytes.size());
-  if constexpr (sizeof(T) % 4 == 0) {
-    to_or_from_little_endian(reinterpret_cast<unsigned char*>(bytes.data()), bytes.size());
+  if constexpr (sizeof(T) % Word == 0) {
+    to_or_from_little_endian<Word>(reinterpret_cast<unsigned char*>(bytes.data()), bytes.size());
   }
   write_file_atomically(path, bytes, std::string(what) + " file");
 }
@@ -133,6 +150,35 @@ void write_closest_points(const std::filesystem::path& path, std::span<const Clo
 
 void write_counts(const std::filesystem::path& path, std::span<const std::uint32_t> counts) {
   write_records<std::uint32_t>(path, counts, "count");
+}
+
+std::vector<RayD> read_rays_d(const std::filesystem::path& path) { return read_records<RayD, 8>(path, "ray"); }
+
+void write_rays_d(const std::filesystem::path& path, std::span<const RayD> rays) {
+  write_records<RayD, 8>(path, rays, "ray");
+}
+
+std::vector<HitD> read_hits_d(const std::filesystem::path& path) {
+  const std::vector<HitRecordD> records = read_records<HitRecordD, 8>(path, "hit");
+  std::vector<HitD> hits(records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const HitRecordD& r = records[i];
+    if ((r.prim_id_and_padding >> 32) != 0) {
+      throw Error("hit file " + quoted(path) + ": record " + std::to_string(i) + " has padding " +
+                  std::to_string(r.prim_id_and_padding >> 32) + " after its prim_id, not 0");
+    }
+    hits[i].t = r.t;
+    hits[i].prim_id = static_cast<std::uint32_t>(r.prim_id_and_padding);
+    hits[i].u = r.u;
+    hits[i].v = r.v;
+  }
+  return hits;
+}
+
+void write_hits_d(const std::filesystem::path& path, std::span<const HitD> hits) {
+  std::vector<HitRecordD> records(hits.size());
+  for (std::size_t i = 0; i < hits.size(); ++i) records[i] = {hits[i].t, hits[i].prim_id, hits[i].u, hits[i].v};
+  write_records<HitRecordD, 8>(path, std::span<const HitRecordD>(records), "hit");
 }
 
 }  // namespace rayaccel

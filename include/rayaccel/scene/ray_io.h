@@ -6,6 +6,9 @@
 //   .closest  28 bytes per point: float32 x y z distance, uint32 prim_id, float32 u v (the ClosestPoint record;
 //             nothing found: distance=+inf, prim=0xFFFFFFFF, the rest 0)
 //   .counts   4 bytes per ray: uint32 (crossings per ray of an all-hits query)
+//   .rays64   64 bytes per ray: float64 ox oy oz tmin dx dy dz tmax (the double path's RayD)
+//   .hits64   32 bytes per ray: float64 t, uint32 prim_id, uint32 0 (padding), float64 u, float64 v (the double
+//             path's HitD; miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
 #pragma once
 
 #include <cstdint>
@@ -18,6 +21,9 @@
 #include "rayaccel/core/ray.h"
 
 namespace rayaccel {
+
+struct RayD;  // core/ray_d.h: declared here so that float code including this header sees no double types
+struct HitD;
 
 /// Throws Error naming the file when it cannot be read or its size is not a multiple of 32 bytes. Records are
 /// returned exactly as stored (no validation of NaN or t ranges: PreparedRay makes bad rays void).
@@ -38,5 +44,15 @@ void write_points(const std::filesystem::path& path, std::span<const Vec3> point
 std::vector<ClosestPoint> read_closest_points(const std::filesystem::path& path);
 void write_closest_points(const std::filesystem::path& path, std::span<const ClosestPoint> points);
 void write_counts(const std::filesystem::path& path, std::span<const std::uint32_t> counts);
+
+/// The double path's files. Throws Error naming the file when it cannot be read or its size is not a multiple of
+/// 64 bytes; records as stored (PreparedRayD makes rays outside the double domain void).
+std::vector<RayD> read_rays_d(const std::filesystem::path& path);
+void write_rays_d(const std::filesystem::path& path, std::span<const RayD> rays);
+/// Throws Error naming the file when it cannot be read, its size is not a multiple of 32 bytes, or a record's
+/// padding word is not 0 (naming the record).
+std::vector<HitD> read_hits_d(const std::filesystem::path& path);
+/// Writes the records as given (call HitD::finish() first), padding 0.
+void write_hits_d(const std::filesystem::path& path, std::span<const HitD> hits);
 
 }  // namespace rayaccel
