@@ -1,6 +1,8 @@
 // The PLY reader (see ply_reader.h): the header parsed into elements and properties, then the data read element by
 // element through one value reader per format (ASCII: one element per line; binary: fixed-size values of either
-// byte order), every count checked against the bytes left before it is trusted.
+// byte order), every count checked against the bytes left before it is trusted. One parser for both meshes: vertex
+// coordinates are read as double and stored in the mesh's own precision (float for TriangleMesh, kept as read for
+// the double path's TriangleMeshD).
 #include "rayaccel/scene/ply_reader.h"
 
 #include <algorithm>
@@ -15,9 +17,12 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/double/double_scene.h"
 
 namespace rayaccel {
 
@@ -115,11 +120,13 @@ std::string_view as_text(std::span<const std::byte> bytes) {
   return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
+/// Mesh: TriangleMesh (coordinates rounded to float) or TriangleMeshD (kept in double).
+template <class Mesh>
 class PlyParser {
  public:
   PlyParser(std::span<const std::byte> bytes, const std::string& name) : bytes_(bytes), text_(as_text(bytes)), name_(name) {}
 
-  TriangleMesh parse() {
+  Mesh parse() {
     parse_header();
     pos_ = header_.data_offset;
     line_ = header_.lines;
@@ -380,13 +387,13 @@ class PlyParser {
         tokens_ = tokens_of(*text);
         token_ = 0;
       }
-      Vec3 p;
+      Vertex p;
       for (std::size_t i = 0; i < e.properties.size(); ++i) {
         const Property& prop = e.properties[i];
         if (!prop.is_list) {
           const double v = value(prop.type, i, -1);
           for (int a = 0; a < 3; ++a) {
-            if (int(i) == xyz[a]) p[a] = static_cast<float>(v);
+            if (int(i) == xyz[a]) p[a] = static_cast<Coordinate>(v);
           }
           continue;
         }
@@ -423,11 +430,14 @@ class PlyParser {
     }
   }
 
+  using Vertex = typename decltype(Mesh::vertices)::value_type;
+  using Coordinate = std::remove_cvref_t<decltype(std::declval<Vertex&>()[0])>;
+
   std::span<const std::byte> bytes_;
   std::string_view text_;
   std::string name_;
   Header header_;
-  TriangleMesh mesh_;
+  Mesh mesh_;
   std::uint64_t vertex_count_ = 0;
   std::size_t pos_ = 0;
   std::size_t line_ = 0;
@@ -437,18 +447,8 @@ class PlyParser {
   std::size_t token_ = 0;
 };
 
-}  // namespace
-
-bool looks_like_ply(std::span<const std::byte> bytes) {
-  const std::string_view t = as_text(bytes);
-  return t.starts_with("ply\n") || t.starts_with("ply\r\n");
-}
-
-TriangleMesh parse_ply(std::span<const std::byte> bytes, const std::string& name) {
-  return PlyParser(bytes, name).parse();
-}
-
-TriangleMesh read_ply(const std::filesystem::path& path) {
+/// The whole of a regular file, for parse_ply().
+std::vector<std::byte> read_ply_bytes(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw Error("cannot read PLY file '" + path.string() + "': not a regular file (or it does not exist)");
@@ -465,7 +465,29 @@ TriangleMesh read_ply(const std::filesystem::path& path) {
   if (!in || (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))) {
     throw Error("cannot read PLY file '" + path.string() + "': read error");
   }
-  return parse_ply(bytes, path.string());
+  return bytes;
+}
+
+}  // namespace
+
+bool looks_like_ply(std::span<const std::byte> bytes) {
+  const std::string_view t = as_text(bytes);
+  return t.starts_with("ply\n") || t.starts_with("ply\r\n");
+}
+
+TriangleMesh parse_ply(std::span<const std::byte> bytes, const std::string& name) {
+  return PlyParser<TriangleMesh>(bytes, name).parse();
+}
+
+TriangleMeshD parse_ply_double(std::span<const std::byte> bytes, const std::string& name) {
+  return PlyParser<TriangleMeshD>(bytes, name).parse();
+}
+
+TriangleMesh read_ply(const std::filesystem::path& path) { return parse_ply(read_ply_bytes(path), path.string()); }
+
+TriangleMeshD read_ply_double(const std::filesystem::path& path) {
+  return parse_ply_double(read_ply_bytes(path), path.string());
 }
 
 }  // namespace rayaccel
+

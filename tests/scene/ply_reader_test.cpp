@@ -18,6 +18,7 @@
 
 #include "../shared_scenes.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/double/double_scene.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ply_reader.h"
 #include "temp_dir.h"
@@ -95,6 +96,58 @@ TEST(PlyReader, BinaryBigEndianWithOtherTypesAndExtraProperties) {
   expect_error(file.substr(0, file.size() - 1), {"t.ply", "face 0 (byte", "ends before face 0 property 'vertex_indices' item 2"});
   for (std::size_t cut = file.size() - 2; cut > file.find("end_header\n") + 11; cut -= 3) {
     expect_error(file.substr(0, cut), {"t.ply"});
+  }
+}
+
+TriangleMeshD parse_double(const std::string& text) {
+  return parse_ply_double(std::as_bytes(std::span(text.data(), text.size())), "t.ply");
+}
+
+TEST(PlyReader, DoubleReadKeepsDoublePropertiesAsRead) {
+  // Coordinates near 1e7 with fractions float cannot hold (its ulp there is 1): binary big-endian and ASCII.
+  const double xs[3] = {1e7 + 0.1, 1e7 + 0.5 + 0x1p-28, -1e7 - 1.0 / 3.0};
+  std::string binary =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int i = 0; i < 3; ++i) {
+    put_big_endian(binary, xs[i]);
+    put_big_endian(binary, -xs[i]);
+    put_big_endian(binary, 0.1f);
+  }
+  put_big_endian(binary, std::uint8_t(3));
+  for (std::int32_t i : {0, 1, 2}) put_big_endian(binary, i);
+  const TriangleMeshD mesh = parse_double(binary);
+  ASSERT_EQ(mesh.vertices.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(mesh.vertices[i], (DVec3{xs[i], -xs[i], double(0.1f)})) << "vertex " << i;
+  }
+  ASSERT_EQ(mesh.triangles.size(), 1u);
+  // The float read of the same file rounds each coordinate to float, once.
+  const TriangleMesh rounded = parse(binary);
+  EXPECT_EQ(rounded.vertices[0], (Vec3{float(xs[0]), float(-xs[0]), 0.1f}));
+  EXPECT_NE(double(rounded.vertices[0].x), xs[0]);
+
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "10000000.123456789 -0.3 0.1\n1e7 2 3\n-10000000.5 0 1\n3 0 1 2\n";
+  const TriangleMeshD text_mesh = parse_double(ascii);
+  ASSERT_EQ(text_mesh.vertices.size(), 3u);
+  EXPECT_EQ(text_mesh.vertices[0], (DVec3{10000000.123456789, -0.3, double(0.1f)}));
+  EXPECT_EQ(text_mesh.vertices[2], (DVec3{-10000000.5, 0.0, 1.0}));
+}
+
+TEST(PlyReader, DoubleReadChecksAsTheFloatReadDoes) {
+  const std::string bad_index = kAsciiHeader + kAsciiVertices + "3 0 1 2\n3 0 2 4\n";
+  for (const auto& read : {std::function<void()>([&] { parse(bad_index); }),
+                           std::function<void()>([&] { parse_double(bad_index); })}) {
+    try {
+      read();
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("t.ply"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("face 1 uses vertex index 4"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -12,6 +12,8 @@
 
 namespace rayaccel {
 
+struct TriangleMeshD;  // double/double_scene.h
+
 /// True when `bytes` start like a PLY file ("ply" and a line end).
 bool looks_like_ply(std::span<const std::byte> bytes);
 
@@ -26,5 +28,11 @@ TriangleMesh parse_ply(std::span<const std::byte> bytes, const std::string& name
 
 /// Reads a PLY file (a regular file, read whole) with parse_ply().
 TriangleMesh read_ply(const std::filesystem::path& path);
+
+/// parse_ply() for the double path: the same parsing and checks, but vertex coordinates are kept as read (a
+/// `double` property keeps all 53 bits; float and integer properties are exact in double). DoubleScene then checks
+/// them against the double domain.
+TriangleMeshD parse_ply_double(std::span<const std::byte> bytes, const std::string& name);
+TriangleMeshD read_ply_double(const std::filesystem::path& path);
 
 }  // namespace rayaccel
