@@ -18,12 +18,14 @@ namespace rayaccel::cli {
 
 namespace {
 
-bool parse_float(std::string_view text, float& out) {
+/// A finite number of type Real (float or double), spaces around it allowed.
+template <class Real>
+bool parse_finite(std::string_view text, Real& out) {
   while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
   while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
   const auto v = parse_real(text);
-  if (!v || !std::isfinite(static_cast<float>(*v))) return false;
-  out = static_cast<float>(*v);
+  if (!v || !std::isfinite(static_cast<Real>(*v))) return false;
+  out = static_cast<Real>(*v);
   return true;
 }
 
@@ -36,16 +38,26 @@ bool parse_int(std::string_view text, int& out) {
 
 }  // namespace
 
-Vec3 parse_vec3(std::string_view text, std::string_view what) {
+namespace {
+
+/// "x,y,z" as three finite numbers of V's precision; throws UsageError naming `what` and the text otherwise.
+template <class V>
+V parse_three(std::string_view text, std::string_view what) {
   const auto parts = split_list(text);
-  Vec3 v;
-  const bool ok = parts.size() == 3 && std::count(text.begin(), text.end(), ',') == 2 && parse_float(parts[0], v.x) &&
-                  parse_float(parts[1], v.y) && parse_float(parts[2], v.z);
+  V v;
+  const bool ok = parts.size() == 3 && std::count(text.begin(), text.end(), ',') == 2 &&
+                  parse_finite(parts[0], v.x) && parse_finite(parts[1], v.y) && parse_finite(parts[2], v.z);
   if (!ok) {
     throw UsageError(std::string(what) + ": '" + std::string(text) + "' is not three finite numbers x,y,z");
   }
   return v;
 }
+
+}  // namespace
+
+Vec3 parse_vec3(std::string_view text, std::string_view what) { return parse_three<Vec3>(text, what); }
+
+DVec3 parse_dvec3(std::string_view text, std::string_view what) { return parse_three<DVec3>(text, what); }
 
 std::pair<int, int> parse_resolution(std::string_view text, std::string_view what) {
   const auto x = text.find_first_of("xX");
@@ -147,17 +159,19 @@ void Progress::done() {
   open_ = false;
 }
 
-namespace {
 bool is_builtin(std::string_view spec) { return spec.rfind("builtin:", 0) == 0; }
-}  // namespace
 
-Scene load_scene_checked(std::string_view spec) {
+void check_scene_exists(std::string_view spec) {
   if (!is_builtin(spec)) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(std::filesystem::path(spec), ec)) {
       throw UsageError("scene file '" + std::string(spec) + "' does not exist (or is not a file)");
     }
   }
+}
+
+Scene load_scene_checked(std::string_view spec) {
+  check_scene_exists(spec);
   return load_scene(spec);
 }
 

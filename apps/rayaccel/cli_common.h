@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
+#include "rayaccel/core/dvec3.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/output_file.h"
 #include "rayaccel/scene/scene.h"
@@ -32,6 +33,8 @@ inline constexpr int kExitUsage = 2;
 
 /// "x,y,z" with three finite numbers; throws UsageError naming `what` and the text otherwise.
 Vec3 parse_vec3(std::string_view text, std::string_view what);
+/// The same in double (each number read with one rounding to double).
+DVec3 parse_dvec3(std::string_view text, std::string_view what);
 /// "WxH" (or "N" for N x N) with 1 <= W, H <= 16384.
 std::pair<int, int> parse_resolution(std::string_view text, std::string_view what);
 /// A comma-separated list; empty items are dropped.
@@ -94,6 +97,10 @@ class Progress {
 
 /// Loads a scene spec (file path or builtin:...); a missing file is a usage error naming it.
 Scene load_scene_checked(std::string_view spec);
+/// True for a "builtin:..." scene spec.
+bool is_builtin(std::string_view spec);
+/// Throws UsageError naming a scene file that does not exist or is not a regular file (builtin specs pass).
+void check_scene_exists(std::string_view spec);
 /// The MANIFEST camera of a shared scene file, else a camera framing the scene's bounds.
 Camera default_camera(std::string_view spec, const Scene& scene);
 

@@ -1,16 +1,19 @@
 // `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), or loads one saved before
 // (--load), traces a .rays file R times with the batch API (median time; --packets: the packet batch), optionally
-// saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line.
+// saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line. With
+// --precision double it hands over to trace_double.cpp (.rays64 in, .hits64 out).
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_common.h"
 #include "commands.h"
+#include "trace_double.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/ray_io.h"
 
@@ -29,13 +32,30 @@ struct TraceArgs {
   std::string out;
   std::string save;  ///< write the built structure here (Accelerator::save())
   std::string load;  ///< load the structure from here instead of building (load_accelerator())
+  std::string precision = "float";  ///< "double": trace_double.cpp
+  std::string offset;               ///< --offset (double only)
 };
+
+/// --precision double: refuses the options the double path lacks, then runs it.
+int run_trace_double_checked(const TraceArgs& args) {
+  for (const auto& [given, name] : {std::pair{args.packets, "--packets"}, std::pair{!args.save.empty(), "--save"},
+                                    std::pair{!args.load.empty(), "--load"}}) {
+    if (given) throw UsageError(std::string(name) + " is not available with --precision double");
+  }
+  return run_trace_double({.scene = args.scene, .rays = args.rays, .accel = args.accel, .offset = args.offset,
+                           .out = args.out, .occlusion = args.occlusion, .repeat = args.repeat});
+}
 
 constexpr int kBuilds = 3;
 
 int run_trace(const TraceArgs& args, bool threads_given) {
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   require_range(args.repeat, 1, 1000000, "--repeat");
+  if (args.precision == "double") {
+    const ThreadLimit limit(threads_given ? args.threads : 0);
+    return run_trace_double_checked(args);
+  }
+  if (!args.offset.empty()) throw UsageError("--offset places the scene in double; it needs --precision double");
   if (args.packets && args.occlusion) {
     throw UsageError("--packets traces closest hits (intersect_packets()); it cannot be combined with --occlusion");
   }
@@ -100,22 +120,18 @@ int run_trace(const TraceArgs& args, bool threads_given) {
     }
   }
 
-  const double trace_median = median(trace_ms);
-  nlohmann::json summary = {
-      {"accel", accel->spec()},
-      {"scene", scene.name()},
-      {"primitives", scene.primitive_count()},
-      {"rays", rays.size()},
-      {"query", args.occlusion ? "occluded" : args.packets ? "intersect_packets" : "intersect"},
-      {"threads", ThreadLimit::active()},
-      {"trace_ms_median", trace_median},
-      {"trace_ms", trace_ms},
-      {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(rays.size()) / (trace_median * 1e3) : 0.0},
-      {"hit_count", hit_count},
-      {"memory_bytes", accel->memory_bytes()},
-      {"scene_memory_bytes", scene.memory_bytes()},
-      {"input_memory_bytes", accel->input_memory_bytes(scene)},
-  };
+  nlohmann::json summary = trace_summary({
+      .accel = accel->spec(),
+      .scene = scene.name(),
+      .primitives = scene.primitive_count(),
+      .rays = rays.size(),
+      .query = args.occlusion ? "occluded" : args.packets ? "intersect_packets" : "intersect",
+      .trace_ms = trace_ms,
+      .hit_count = hit_count,
+      .memory_bytes = accel->memory_bytes(),
+      .scene_memory_bytes = scene.memory_bytes(),
+      .input_memory_bytes = accel->input_memory_bytes(scene),
+  });
   if (args.load.empty()) {
     summary["build_ms_median"] = median(build_ms);
     summary["build_ms"] = build_ms;
@@ -131,11 +147,33 @@ int run_trace(const TraceArgs& args, bool threads_given) {
 
 }  // namespace
 
+nlohmann::json trace_summary(const TraceFigures& f) {
+  const double trace_median = median(f.trace_ms);
+  return {
+      {"accel", f.accel},
+      {"scene", f.scene},
+      {"primitives", f.primitives},
+      {"rays", f.rays},
+      {"query", f.query},
+      {"threads", ThreadLimit::active()},
+      {"trace_ms_median", trace_median},
+      {"trace_ms", f.trace_ms},
+      {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(f.rays) / (trace_median * 1e3) : 0.0},
+      {"hit_count", f.hit_count},
+      {"memory_bytes", f.memory_bytes},
+      {"scene_memory_bytes", f.scene_memory_bytes},
+      {"input_memory_bytes", f.input_memory_bytes},
+  };
+}
+
 Command add_trace_command(CLI::App& root) {
   auto args = std::make_shared<TraceArgs>();
   CLI::App* app = root.add_subcommand("trace", "Trace a .rays file and write the .hits (or .occ) file");
   app->add_option("scene", args->scene, "Mesh file or builtin:NAME[:key=value,...]")->required();
-  app->add_option("rays", args->rays, ".rays file (32 bytes per ray: ox oy oz tmin dx dy dz tmax)")->required();
+  app->add_option("rays", args->rays,
+                  ".rays file (32 bytes per ray: ox oy oz tmin dx dy dz tmax; .rays64, 64 bytes, with --precision "
+                  "double)")
+      ->required();
   app->add_option("--accel", args->accel,
                   "Structure spec NAME[:key=value,...] (see 'rayaccel list'); default " + default_accelerator_spec());
   app->add_flag("--occlusion", args->occlusion, "Any-hit queries (occluded()); writes a .occ file");
@@ -144,7 +182,13 @@ Command add_trace_command(CLI::App& root) {
                 "(intersect_packets(); structures without a packet traversal trace them one by one)");
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for build and trace (>= 1)");
   app->add_option("--repeat", args->repeat, "Timed passes over all rays (median reported)")->capture_default_str();
-  app->add_option("--out", args->out, "Output .hits file (.occ with --occlusion)");
+  app->add_option("--out", args->out, "Output .hits file (.hits64 with --precision double; .occ with --occlusion)");
+  app->add_option("--precision", args->precision,
+                  "float, or double: the double path (double vertices and rays, brute_force or bvh with bv=aabb)")
+      ->check(CLI::IsMember({"float", "double"}))
+      ->capture_default_str();
+  app->add_option("--offset", args->offset,
+                  "With --precision double: x,y,z added to every vertex in double (to place a model far away)");
   app->add_option("--save", args->save,
                   "Save the built structure to this file (bvh, every volume, and bvh_wide), to --load it later");
   app->add_option("--load", args->load,
