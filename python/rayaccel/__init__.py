@@ -7,6 +7,7 @@
     counts, hits = accel.all_hits(rays)             # every surface crossing along each ray
     closest = accel.closest_points(points)          # closest point, triangle, barycentrics, distance
     inside = accel.inside(points)                   # crossing-parity inside test (closed meshes)
+    far = rayaccel.build_double(rayaccel.mesh_double(vertices64, triangles))   # the double path (far geometry)
 
 Batches run in C++ without the GIL on TBB's threads (rayaccel.set_threads(n) limits them). rayaccel.dask traces
 dask arrays of rays on any Dask scheduler (imported on first use; needs dask). Scenes copy the arrays
@@ -18,13 +19,15 @@ import os
 import numpy as np
 
 from . import _core
-from ._core import Scene, __version__, packet_tile_order, set_threads, specs, threads
-from ._rays import HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
+from ._core import DoubleScene, Scene, __version__, packet_tile_order, set_threads, specs, threads
+from ._rays import HIT64_DTYPE, HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
-__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "HIT_DTYPE", "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build",
-           "builtin", "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "packet_tile_order", "render",
-           "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads", "winding_numbers"]
+__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "HIT64_DTYPE", "HIT_DTYPE",
+           "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build", "build_double", "builtin",
+           "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "mesh_double", "packet_tile_order", "render",
+           "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads",
+           "winding_numbers"]
 
 #: One closest-point record, the 28-byte layout of the CLI's .closest file (prim_id = MISS: nothing within reach).
 CLOSEST_DTYPE = np.dtype([("point", "<f4", (3,)), ("distance", "<f4"), ("prim_id", "<u4"), ("u", "<f4"),
@@ -206,5 +209,52 @@ def build(scene, spec="bvh_wide"):
         raise TypeError(f"build() needs a rayaccel.Scene (rayaccel.mesh, load, builtin, spheres), not "
                         f"{type(scene).__name__}")
     accel = Accelerator(spec)
+    accel.build(scene)
+    return accel
+
+
+def mesh_double(vertices, triangles):
+    """A DoubleScene for the double-precision path: (N, 3) float64 vertices, kept bit for bit, and (M, 3)
+    int32/uint32/int64 triangles (copied once). TypeError for another dtype, ValueError for a bad shape, an index out
+    of range, or a coordinate outside the double domain (NaN, infinite, or nonzero with magnitude outside
+    [2^-64, 2^64]), naming it."""
+    return _core._mesh_double(vertices, triangles)
+
+
+class DoubleAccelerator(_core._DoubleAccelerator):
+    """A double-precision structure ("brute_force", or "bvh[:key=value,...]" with bv=aabb) over one DoubleScene.
+
+    Rays are a (..., 8) array in the .rays64 layout (float64; float32 is converted exactly), or origins and
+    directions ((..., 3)) with t_min and t_max, all in float64. A hit counts when t_min < t <= t_max. Rays with a
+    component outside the double domain, a zero direction or a NaN t bound raise ValueError; with check=False they
+    are traced as misses.
+    """
+
+    def __init__(self, spec="bvh"):
+        super().__init__(str(spec))
+
+    def __repr__(self):
+        state = f"built over {self.scene!r}" if self.scene is not None else "not built"
+        return f"<rayaccel.DoubleAccelerator '{self.spec}' {state}>"
+
+    def intersect(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
+        """Closest hits as Hits over HIT64_DTYPE records (t float64, prim_id, u, v float64, shaped like the rays;
+        hits.tobytes() is a .hits64 file)."""
+        flat, shape = as_rays(rays, directions, t_min, t_max, dtype=np.float64)
+        return Hits(self._intersect(flat, bool(check)), shape, dtype=HIT64_DTYPE)
+
+    def occluded(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
+        """Any hit: a bool array shaped like the rays."""
+        flat, shape = as_rays(rays, directions, t_min, t_max, dtype=np.float64)
+        return self._occluded(flat, bool(check)).reshape(shape)
+
+
+def build_double(scene, spec="bvh"):
+    """Builds the double structure named by spec over a DoubleScene (mesh_double()); ValueError for a structure
+    without a double version or a bad option."""
+    if not isinstance(scene, DoubleScene):
+        raise TypeError(f"build_double() needs a rayaccel.DoubleScene (rayaccel.mesh_double), not "
+                        f"{type(scene).__name__}")
+    accel = DoubleAccelerator(spec)
     accel.build(scene)
     return accel

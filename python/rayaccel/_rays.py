@@ -1,11 +1,15 @@
 """Ray arrays in the .rays layout and the result types of queries (Hits, TraversalStats).
 
 A ray array has shape (..., 8), float32: ox oy oz tmin dx dy dz tmax, the 32-byte record of the CLI's .rays files.
-Hit records have the 16-byte .hits layout (HIT_DTYPE), so ``hits.records.tobytes()`` is a .hits file.
+Hit records have the 16-byte .hits layout (HIT_DTYPE), so ``hits.records.tobytes()`` is a .hits file. The double
+path's rays are float64 (the 64-byte .rays64 record) and its hits the 32-byte .hits64 records (HIT64_DTYPE).
 """
 import numpy as np
 
 HIT_DTYPE = np.dtype([("t", "<f4"), ("prim_id", "<u4"), ("u", "<f4"), ("v", "<f4")])
+#: The .hits64 record: float64 t, uint32 prim_id, 4 bytes of zero padding, float64 u, float64 v.
+HIT64_DTYPE = np.dtype({"names": ["t", "prim_id", "u", "v"], "formats": ["<f8", "<u4", "<f8", "<f8"],
+                        "offsets": [0, 8, 16, 24], "itemsize": 32})
 MISS = 0xFFFFFFFF  # prim_id of a miss
 _FLOATS = (np.dtype(np.float32), np.dtype(np.float64))
 
@@ -17,11 +21,12 @@ def _float_array(value, name):
     return array
 
 
-def as_rays(rays, directions=None, t_min=None, t_max=None):
+def as_rays(rays, directions=None, t_min=None, t_max=None, dtype=np.float32):
     """Returns (flat (N, 8) ray array, leading shape) from a (..., 8) ray array, or from origins and directions.
 
     origins and directions have shape (..., 3) (origins may be one point, shape (3,)); t_min and t_max are scalars
-    or arrays of the leading shape (defaults 0 and +inf). An (N, 8) float32 C-contiguous array is used as is.
+    or arrays of the leading shape (defaults 0 and +inf), assembled into a `dtype` array (float64 for the double
+    path). An (N, 8) C-contiguous array of `dtype` is used as is.
     """
     if directions is None:
         if not isinstance(rays, np.ndarray):
@@ -42,7 +47,7 @@ def as_rays(rays, directions=None, t_min=None, t_max=None):
         raise ValueError(f"origins must have the shape of directions {directions.shape} (or (3,) for one origin), "
                          f"not {origins.shape}")
     lead = directions.shape[:-1]
-    out = np.empty(lead + (8,), dtype=np.float32)
+    out = np.empty(lead + (8,), dtype=dtype)
     out[..., 0:3] = origins
     out[..., 4:7] = directions
     for column, value, default, name in ((3, t_min, 0.0, "t_min"), (7, t_max, np.inf, "t_max")):
@@ -76,8 +81,8 @@ class Hits:
     when asked for; stats (TraversalStats) too.
     """
 
-    def __init__(self, records, shape, points=None, normals=None, stats=None):
-        self.records = records.view(HIT_DTYPE).reshape(shape)
+    def __init__(self, records, shape, points=None, normals=None, stats=None, dtype=HIT_DTYPE):
+        self.records = records.view(dtype).reshape(shape)
         self.points = None if points is None else points.reshape(shape + (3,))
         self.normals = None if normals is None else normals.reshape(shape + (3,))
         self.stats = stats
@@ -99,5 +104,5 @@ class Hits:
         return f"<rayaccel.Hits {self.records.shape}: {int(np.count_nonzero(self.hit))} hits>"
 
     def tobytes(self):
-        """The records as a .hits file's bytes."""
+        """The records as a .hits file's bytes (.hits64 for the double path's hits)."""
         return self.records.tobytes()

@@ -25,7 +25,8 @@ std::string shape_text(const py::array& array) {
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
-FloatRows float_rows(const py::handle& object, py::ssize_t columns, const char* what) {
+template <class Real>
+RealRows<Real> real_rows(const py::handle& object, py::ssize_t columns, const char* what) {
   if (!py::isinstance<py::array>(object)) {
     throw TypeError(std::string(what) + " must be a numpy array, not " +
                     py::str(py::type::of(object).attr("__name__")).cast<std::string>());
@@ -38,14 +39,59 @@ FloatRows float_rows(const py::handle& object, py::ssize_t columns, const char* 
     throw ValueError(std::string(what) + " must have shape (N, " + std::to_string(columns) + "), not " +
                      shape_text(array));
   }
-  // ensure() keeps the same object when dtype and layout already match, else converts (float64 is rounded).
-  auto rows = FloatRows::ensure(array);
+  // ensure() keeps the same object when dtype and layout already match, else converts (float64 to float32 rounded).
+  auto rows = RealRows<Real>::ensure(array);
   if (!rows) throw py::error_already_set();
   return rows;
 }
 
+template RealRows<float> real_rows<float>(const py::handle&, py::ssize_t, const char*);
+template RealRows<double> real_rows<double>(const py::handle&, py::ssize_t, const char*);
+
 std::span<const Ray> ray_view(const FloatRows& rays) {
   return {reinterpret_cast<const Ray*>(rays.data()), static_cast<std::size_t>(rays.shape(0))};
+}
+
+namespace {
+
+template <class Index>
+void copy_triangles(const py::array& array, std::size_t vertex_count,
+                    std::vector<std::array<std::uint32_t, 3>>& out) {
+  const auto rows = py::array_t<Index, py::array::c_style>::ensure(array);
+  if (!rows) throw py::error_already_set();
+  const Index* data = rows.data();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const Index index = data[3 * i + k];
+      if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count) {
+        throw ValueError("triangles[" + std::to_string(i) + ", " + std::to_string(k) + "] = " +
+                         std::to_string(index) + " is out of range: there are " + std::to_string(vertex_count) +
+                         " vertices");
+      }
+      out[i][k] = static_cast<std::uint32_t>(index);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> read_triangles(const py::handle& object, std::size_t vertex_count) {
+  if (!py::isinstance<py::array>(object)) throw TypeError("triangles must be a numpy array");
+  const auto array = py::reinterpret_borrow<py::array>(object);
+  if (array.ndim() != 2 || array.shape(1) != 3) {
+    throw ValueError("triangles must have shape (M, 3), not " + shape_text(array));
+  }
+  std::vector<std::array<std::uint32_t, 3>> triangles(static_cast<std::size_t>(array.shape(0)));
+  if (array.dtype().equal(py::dtype::of<std::int32_t>())) {
+    copy_triangles<std::int32_t>(array, vertex_count, triangles);
+  } else if (array.dtype().equal(py::dtype::of<std::uint32_t>())) {
+    copy_triangles<std::uint32_t>(array, vertex_count, triangles);
+  } else if (array.dtype().equal(py::dtype::of<std::int64_t>())) {
+    copy_triangles<std::int64_t>(array, vertex_count, triangles);
+  } else {
+    throw TypeError("triangles must be int32, uint32 or int64, not " + dtype_name(array));
+  }
+  return triangles;
 }
 
 namespace {

@@ -5,11 +5,13 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "rayaccel/core/ray.h"
 
@@ -25,17 +27,28 @@ struct ValueError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// A C-contiguous float32 array (numpy converts float64 to it when asked to).
-using FloatRows = py::array_t<float, py::array::c_style | py::array::forcecast>;
+/// A C-contiguous float32 (or float64) array (numpy converts the other float type to it when asked to).
+template <class Real>
+using RealRows = py::array_t<Real, py::array::c_style | py::array::forcecast>;
+using FloatRows = RealRows<float>;
 
 /// "float32", "int64", ... for messages.
 std::string dtype_name(const py::array& array);
 /// "(3, 4)" for messages.
 std::string shape_text(const py::array& array);
 
-/// An (N, columns) float32 C-contiguous array: `object` itself when it already is one (no copy), else a float32
-/// copy of a float32/float64 array. Throws TypeError for other dtypes or a non-array, ValueError for another shape.
-FloatRows float_rows(const py::handle& object, py::ssize_t columns, const char* what);
+/// An (N, columns) C-contiguous array of Real (float or double): `object` itself when it already is one (no copy),
+/// else a Real copy of a float32/float64 array. Throws TypeError for other dtypes or a non-array, ValueError for
+/// another shape.
+template <class Real>
+RealRows<Real> real_rows(const py::handle& object, py::ssize_t columns, const char* what);
+inline FloatRows float_rows(const py::handle& object, py::ssize_t columns, const char* what) {
+  return real_rows<float>(object, columns, what);
+}
+
+/// (M, 3) int32/uint32/int64 triangles as the library's index triples; TypeError for another dtype or a non-array,
+/// ValueError naming the shape, or the entry and its value for an index outside [0, vertex_count).
+std::vector<std::array<std::uint32_t, 3>> read_triangles(const py::handle& object, std::size_t vertex_count);
 
 /// Rays of an (N, 8) float32 C-contiguous array in the .rays layout, viewed in place.
 std::span<const Ray> ray_view(const FloatRows& rays);

@@ -1,0 +1,183 @@
+// The double-precision path for Python: rayaccel.mesh_double() makes a DoubleScene from float64 numpy arrays, and
+// rayaccel.build_double() a double structure (make_double_accelerator: brute_force or bvh) queried with (N, 8) float64
+// rays in the .rays64 layout into (N, 32) uint8 records in the .hits64 layout (scene/ray_io.h), so results equal the
+// CLI's files byte for byte. Builds and batches run without the GIL.
+#include <pybind11/stl.h>
+
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <shared_mutex>
+#include <string>
+#include <vector>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "rayaccel/core/ray_d.h"
+#include "rayaccel/double/double_accelerator.h"
+#include "rayaccel/double/double_scene.h"
+
+namespace rayaccel::python {
+
+namespace {
+
+// The numpy records are the library's own: RayD is the .rays64 record, HitD the .hits64 one (its padding word is
+// zeroed after tracing).
+static_assert(sizeof(RayD) == 64 && offsetof(RayD, t_min) == 24 && offsetof(RayD, t_max) == 56);
+static_assert(sizeof(HitD) == 32 && offsetof(HitD, prim_id) == 8 && offsetof(HitD, u) == 16 && offsetof(HitD, v) == 24);
+constexpr std::size_t kPaddingOffset = offsetof(HitD, prim_id) + sizeof(std::uint32_t);
+
+/// A DoubleScene from (N, 3) float64 vertices and (M, 3) int32/uint32/int64 triangles (copied once); DoubleScene
+/// checks the double domain and names the vertex at fault.
+std::shared_ptr<DoubleScene> mesh_double(const py::handle& vertices, const py::handle& triangles) {
+  if (!py::isinstance<py::array>(vertices)) throw TypeError("vertices must be a numpy array");
+  const auto array = py::reinterpret_borrow<py::array>(vertices);
+  if (!array.dtype().equal(py::dtype::of<double>())) {
+    throw TypeError("vertices must be float64 (the double path keeps every bit; float32 ones have lost them "
+                    "already), not " + dtype_name(array));
+  }
+  if (array.ndim() != 2 || array.shape(1) != 3) {
+    throw ValueError("vertices must have shape (N, 3), not " + shape_text(array));
+  }
+  const auto rows = py::array_t<double, py::array::c_style>::ensure(array);  // no copy when already C-contiguous
+  if (!rows) throw py::error_already_set();
+  const auto count = static_cast<std::size_t>(rows.shape(0));
+  if (count > std::numeric_limits<std::uint32_t>::max()) throw ValueError("too many vertices");
+  TriangleMeshD mesh;
+  mesh.vertices.resize(count);
+  const double* xyz = rows.data();
+  for (std::size_t i = 0; i < count; ++i) mesh.vertices[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  mesh.triangles = read_triangles(triangles, count);
+  py::gil_scoped_release release;
+  return std::make_shared<DoubleScene>(std::move(mesh));
+}
+
+/// Nothing when the ray is acceptable, else what is wrong with it (such rays are void: traced as misses).
+const char* ray_problem(const RayD& r) {
+  if (!in_double_domain(r.origin)) {
+    return "an origin component outside the double domain (NaN, infinite, or nonzero with magnitude outside "
+           "[2^-64, 2^64])";
+  }
+  if (!in_double_domain(r.direction)) {
+    return "a direction component outside the double domain (NaN, infinite, or nonzero with magnitude outside "
+           "[2^-64, 2^64])";
+  }
+  if (r.direction.x == 0.0 && r.direction.y == 0.0 && r.direction.z == 0.0) return "a zero direction";
+  if (std::isnan(r.t_min)) return "a NaN t_min";
+  if (std::isnan(r.t_max)) return "a NaN t_max";
+  return nullptr;
+}
+
+/// Throws ValueError naming the first unacceptable ray.
+void check_rays(std::span<const RayD> rays) {
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (const char* problem = ray_problem(rays[i])) {
+      throw ValueError("ray " + std::to_string(i) + " has " + problem +
+                       " (pass check=False to trace such rays as misses, as the C++ library does)");
+    }
+  }
+}
+
+/// One double structure over one DoubleScene that it keeps alive; queries take a shared lock and build() an
+/// exclusive one (as the float _Accelerator).
+class PyDoubleAccelerator {
+ public:
+  explicit PyDoubleAccelerator(const std::string& spec) : accel_(make_double_accelerator(spec)) {}
+
+  void build(std::shared_ptr<DoubleScene> scene) {
+    if (!scene) throw TypeError("build() needs a rayaccel.DoubleScene, not None");
+    py::gil_scoped_release release;
+    std::unique_lock lock(mutex_);
+    scene_.reset();
+    accel_->build(*scene);
+    scene_ = std::move(scene);
+  }
+
+  const std::string& spec() const { return accel_->spec(); }
+  std::shared_ptr<DoubleScene> scene() const {
+    std::shared_lock lock(mutex_);
+    return scene_;
+  }
+  std::size_t memory_bytes() const {
+    std::shared_lock lock(mutex_);
+    return require_built().memory_bytes();
+  }
+  std::vector<std::string> validate() const {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    return require_built().validate();
+  }
+
+  /// Closest hits: (N, 32) uint8 records in the .hits64 layout.
+  py::array_t<std::uint8_t> intersect(const py::handle& rays_object, bool check) const {
+    const auto rays_array = real_rows<double>(rays_object, 8, "rays");
+    const std::span<const RayD> rays = ray_view(rays_array);
+    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(rays.size()), py::ssize_t{sizeof(HitD)}});
+    std::uint8_t* bytes = records.mutable_data();
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      const DoubleAccelerator& accel = require_built();
+      if (check) check_rays(rays);
+      accel.intersect(rays, std::span<HitD>(reinterpret_cast<HitD*>(bytes), rays.size()));
+      for (std::size_t i = 0; i < rays.size(); ++i) std::memset(bytes + i * sizeof(HitD) + kPaddingOffset, 0, 4);
+    }
+    return records;
+  }
+
+  /// Any hits: (N,) bool.
+  py::array_t<bool> occluded(const py::handle& rays_object, bool check) const {
+    const auto rays_array = real_rows<double>(rays_object, 8, "rays");
+    const std::span<const RayD> rays = ray_view(rays_array);
+    py::array_t<bool> answers(static_cast<py::ssize_t>(rays.size()));
+    static_assert(sizeof(bool) == 1);
+    const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), rays.size());
+    {
+      py::gil_scoped_release release;
+      std::shared_lock lock(mutex_);
+      const DoubleAccelerator& accel = require_built();
+      if (check) check_rays(rays);
+      accel.occluded(rays, out);
+    }
+    return answers;
+  }
+
+ private:
+  static std::span<const RayD> ray_view(const RealRows<double>& rays) {
+    return {reinterpret_cast<const RayD*>(rays.data()), static_cast<std::size_t>(rays.shape(0))};
+  }
+  const DoubleAccelerator& require_built() const {
+    if (!scene_) throw ValueError("double accelerator '" + accel_->spec() + "' is not built: call build(scene) first");
+    return *accel_;
+  }
+
+  std::unique_ptr<DoubleAccelerator> accel_;
+  std::shared_ptr<DoubleScene> scene_;
+  mutable std::shared_mutex mutex_;
+};
+
+}  // namespace
+
+void bind_double(py::module_& m) {
+  py::class_<DoubleScene, std::shared_ptr<DoubleScene>>(m, "DoubleScene",
+                                                        "A triangle mesh in double (rayaccel.mesh_double()).")
+      .def("__len__", &DoubleScene::triangle_count)
+      .def_property_readonly("memory_bytes", &DoubleScene::memory_bytes)
+      .def("__repr__", [](const DoubleScene& s) {
+        return "<rayaccel.DoubleScene: " + std::to_string(s.triangle_count()) + " triangles>";
+      });
+  m.def("_mesh_double", &mesh_double, py::arg("vertices"), py::arg("triangles"));
+  py::class_<PyDoubleAccelerator>(m, "_DoubleAccelerator")
+      .def(py::init<const std::string&>(), py::arg("spec"))
+      .def("build", &PyDoubleAccelerator::build, py::arg("scene"))
+      .def_property_readonly("spec", &PyDoubleAccelerator::spec)
+      .def_property_readonly("scene", &PyDoubleAccelerator::scene)
+      .def_property_readonly("memory_bytes", &PyDoubleAccelerator::memory_bytes)
+      .def("validate", &PyDoubleAccelerator::validate)
+      .def("_intersect", &PyDoubleAccelerator::intersect, py::arg("rays"), py::arg("check"))
+      .def("_occluded", &PyDoubleAccelerator::occluded, py::arg("rays"), py::arg("check"));
+}
+
+}  // namespace rayaccel::python
