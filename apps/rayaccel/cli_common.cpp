@@ -147,9 +147,7 @@ void Progress::done() {
   open_ = false;
 }
 
-namespace {
 bool is_builtin(std::string_view spec) { return spec.rfind("builtin:", 0) == 0; }
-}  // namespace
 
 Scene load_scene_checked(std::string_view spec) {
   if (!is_builtin(spec)) {

@@ -92,6 +92,8 @@ class Progress {
   bool open_ = false;
 };
 
+/// True for a "builtin:..." scene spec.
+bool is_builtin(std::string_view spec);
 /// Loads a scene spec (file path or builtin:...); a missing file is a usage error naming it.
 Scene load_scene_checked(std::string_view spec);
 /// The MANIFEST camera of a shared scene file, else a camera framing the scene's bounds.

@@ -1,6 +1,7 @@
 // `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), or loads one saved before
 // (--load), traces a .rays file R times with the batch API (median time; --packets: the packet batch), optionally
-// saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line.
+// saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line. With
+// --instances the two-level trace of trace_instanced.cpp runs instead.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "trace_instanced.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/ray_io.h"
 
@@ -29,11 +31,25 @@ struct TraceArgs {
   std::string out;
   std::string save;  ///< write the built structure here (Accelerator::save())
   std::string load;  ///< load the structure from here instead of building (load_accelerator())
+  bool instances = false;               ///< the two-level trace (trace_instanced.h)
+  std::vector<std::string> geometries;  ///< --geometry, with --instances only
 };
+
+int run_trace_instanced_hook(const TraceArgs& args, bool threads_given) {
+  if (args.packets) throw UsageError("--packets cannot be combined with --instances");
+  if (!args.save.empty() || !args.load.empty()) {
+    throw UsageError("--save and --load cannot be combined with --instances");
+  }
+  return run_trace_instanced({args.scene, args.geometries, args.rays, args.accel, args.occlusion, args.threads,
+                              args.repeat, args.out},
+                             threads_given);
+}
 
 constexpr int kBuilds = 3;
 
 int run_trace(const TraceArgs& args, bool threads_given) {
+  if (args.instances) return run_trace_instanced_hook(args, threads_given);
+  if (!args.geometries.empty()) throw UsageError("--geometry needs --instances");
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   require_range(args.repeat, 1, 1000000, "--repeat");
   if (args.packets && args.occlusion) {
@@ -150,6 +166,14 @@ Command add_trace_command(CLI::App& root) {
   app->add_option("--load", args->load,
                   "Load the structure saved by --save instead of building one (checked against the scene: a file "
                   "saved for other geometry is refused)");
+  app->add_flag("--instances", args->instances,
+                "Two-level trace: SCENE read with its instancing (a mesh reused by several nodes is traced once per "
+                "node through one bottom level); --accel names the bottom levels' structure; --out writes .ihits "
+                "(24 bytes per ray: t prim_id u v geom_id instance_id)");
+  app->add_option("--geometry", args->geometries,
+                  "With --instances: one more mesh file or builtin scene, placed with the identity beside SCENE "
+                  "(repeatable)")
+      ->allow_extra_args(false);
   return {app, [args, threads] { return run_trace(*args, threads->count() > 0); }};
 }
 
