@@ -95,6 +95,8 @@ class Progress {
   bool open_ = false;
 };
 
+/// True for a "builtin:..." scene spec.
+bool is_builtin(std::string_view spec);
 /// Loads a scene spec (file path or builtin:...); a missing file is a usage error naming it.
 Scene load_scene_checked(std::string_view spec);
 /// True for a "builtin:..." scene spec.

@@ -1,7 +1,8 @@
 // `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), or loads one saved before
 // (--load), traces a .rays file R times with the batch API (median time; --packets: the packet batch), optionally
 // saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line. With
-// --precision double it hands over to trace_double.cpp (.rays64 in, .hits64 out).
+// --precision double it hands over to trace_double.cpp (.rays64 in, .hits64 out); with --instances the two-level
+// trace of trace_instanced.cpp runs instead (.ihits out).
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -14,6 +15,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "trace_double.h"
+#include "trace_instanced.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/ray_io.h"
 
@@ -34,6 +36,8 @@ struct TraceArgs {
   std::string load;  ///< load the structure from here instead of building (load_accelerator())
   std::string precision = "float";  ///< "double": trace_double.cpp
   std::string offset;               ///< --offset (double only)
+  bool instances = false;               ///< the two-level trace (trace_instanced.h)
+  std::vector<std::string> geometries;  ///< --geometry, with --instances only
 };
 
 /// --precision double: refuses the options the double path lacks, then runs it.
@@ -46,9 +50,24 @@ int run_trace_double_checked(const TraceArgs& args) {
                            .out = args.out, .occlusion = args.occlusion, .repeat = args.repeat});
 }
 
+int run_trace_instanced_hook(const TraceArgs& args, bool threads_given) {
+  if (args.packets) throw UsageError("--packets cannot be combined with --instances");
+  if (!args.save.empty() || !args.load.empty()) {
+    throw UsageError("--save and --load cannot be combined with --instances");
+  }
+  return run_trace_instanced({args.scene, args.geometries, args.rays, args.accel, args.occlusion, args.threads,
+                              args.repeat, args.out},
+                             threads_given);
+}
+
 constexpr int kBuilds = 3;
 
 int run_trace(const TraceArgs& args, bool threads_given) {
+  if (args.instances && args.precision == "double") {
+    throw UsageError("--instances traces in float; it cannot be combined with --precision double");
+  }
+  if (args.instances) return run_trace_instanced_hook(args, threads_given);
+  if (!args.geometries.empty()) throw UsageError("--geometry needs --instances");
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   require_range(args.repeat, 1, 1000000, "--repeat");
   if (args.precision == "double") {
@@ -194,6 +213,14 @@ Command add_trace_command(CLI::App& root) {
   app->add_option("--load", args->load,
                   "Load the structure saved by --save instead of building one (checked against the scene: a file "
                   "saved for other geometry is refused)");
+  app->add_flag("--instances", args->instances,
+                "Two-level trace: SCENE read with its instancing (a mesh reused by several nodes is traced once per "
+                "node through one bottom level); --accel names the bottom levels' structure; --out writes .ihits "
+                "(24 bytes per ray: t prim_id u v geom_id instance_id)");
+  app->add_option("--geometry", args->geometries,
+                  "With --instances: one more mesh file or builtin scene, placed with the identity beside SCENE "
+                  "(repeatable)")
+      ->allow_extra_args(false);
   return {app, [args, threads] { return run_trace(*args, threads->count() > 0); }};
 }
 

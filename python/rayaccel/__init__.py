@@ -21,13 +21,14 @@ import numpy as np
 from . import _core
 from ._core import DoubleScene, Scene, __version__, packet_tile_order, set_threads, specs, threads
 from ._rays import HIT64_DTYPE, HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
+from ._instances import IHIT_DTYPE, InstancedAccelerator, InstancedScene, build_instanced
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
 __all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "HIT64_DTYPE", "HIT_DTYPE",
-           "Hits", "MISS", "Scene", "TraversalStats", "__version__", "build", "build_double", "builtin",
-           "builtin_scenes", "diffuse_rays", "heatmap", "load", "mesh", "mesh_double", "packet_tile_order", "render",
-           "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads",
-           "winding_numbers"]
+           "Hits", "IHIT_DTYPE", "InstancedAccelerator", "InstancedScene", "MISS", "Scene", "TraversalStats",
+           "__version__", "build", "build_double", "build_instanced", "builtin", "builtin_scenes", "diffuse_rays",
+           "heatmap", "load", "mesh", "mesh_double", "packet_tile_order", "render", "set_threads", "shadow_rays",
+           "specs", "spheres", "structures", "thread_limit", "threads", "winding_numbers"]
 
 #: One closest-point record, the 28-byte layout of the CLI's .closest file (prim_id = MISS: nothing within reach).
 CLOSEST_DTYPE = np.dtype([("point", "<f4", (3,)), ("distance", "<f4"), ("prim_id", "<u4"), ("u", "<f4"),

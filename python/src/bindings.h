@@ -40,5 +40,6 @@ void bind_scene(py::module_& m);        // scene_bindings.cpp
 void bind_accelerator(py::module_& m);  // accel_bindings.cpp
 void bind_render(py::module_& m);       // render_bindings.cpp
 void bind_double(py::module_& m);       // double_bindings.cpp
+void bind_instances(py::module_& m);    // instance_bindings.cpp
 
 }  // namespace rayaccel::python

@@ -15,6 +15,7 @@ InstancedAccelerator::InstancedAccelerator(InstancedAcceleratorOptions options) 
 
 void InstancedAccelerator::build(const InstancedScene& scene) {
   scene_ = &scene;
+  enabled_.clear();
   bottoms_.clear();
   for (std::uint32_t g = 0; g < scene.geometry_count(); ++g) {
     bottoms_.push_back(make_accelerator(options_.bottom));
@@ -23,21 +24,53 @@ void InstancedAccelerator::build(const InstancedScene& scene) {
   rebuild_top();
 }
 
-void InstancedAccelerator::rebuild_top() {
-  if (!scene_) throw Error("InstancedAccelerator::rebuild_top: build() has not been called");
+void InstancedAccelerator::place_instances() {
+  if (!scene_) throw Error("InstancedAccelerator: build() has not been called");
   const InstancedScene& scene = *scene_;
   if (bottoms_.size() != scene.geometry_count()) {
-    throw Error("InstancedAccelerator::rebuild_top: the scene has " + std::to_string(scene.geometry_count()) +
+    throw Error("InstancedAccelerator: the scene has " + std::to_string(scene.geometry_count()) +
                 " geometries, the structure was built over " + std::to_string(bottoms_.size()) + " (call build())");
   }
   placed_.resize(scene.instance_count());
   boxes_.resize(scene.instance_count());
+  enabled_.resize(scene.instance_count(), 1);
   for (std::uint32_t i = 0; i < scene.instance_count(); ++i) {
     const Instance& instance = scene.instance(i);
-    placed_[i] = Placed{instance.inverse, instance.geometry, instance.instance_id};
+    placed_[i] = Placed{instance.inverse, instance.geometry, instance.instance_id, instance.transform.is_identity()};
     boxes_[i] = transform_box(instance.transform, scene.geometry(instance.geometry).bounds());
   }
+}
+
+void InstancedAccelerator::rebuild_top() {
+  place_instances();
   top_.build(boxes_);
+}
+
+UpdateKind InstancedAccelerator::update_top() {
+  const std::size_t before = placed_.size();
+  place_instances();
+  if (placed_.size() != before) {
+    top_.build(boxes_);
+    return UpdateKind::rebuilt;
+  }
+  top_.refit(boxes_);
+  return UpdateKind::refitted;
+}
+
+void InstancedAccelerator::set_enabled(std::uint32_t instance, bool enabled) {
+  if (instance >= enabled_.size()) {
+    throw Error("set_enabled: instance " + std::to_string(instance) + " is out of range (the structure holds " +
+                std::to_string(enabled_.size()) + " instances)");
+  }
+  enabled_[instance] = enabled ? 1 : 0;
+}
+
+bool InstancedAccelerator::is_enabled(std::uint32_t instance) const {
+  if (instance >= enabled_.size()) {
+    throw Error("is_enabled: instance " + std::to_string(instance) + " is out of range (the structure holds " +
+                std::to_string(enabled_.size()) + " instances)");
+  }
+  return enabled_[instance] != 0;
 }
 
 InstanceHit InstancedAccelerator::intersect(const Ray& ray) const {
@@ -46,8 +79,9 @@ InstanceHit InstancedAccelerator::intersect(const Ray& ray) const {
   if (prepared.is_void()) return best;
   float t_far = ray.t_max;
   top_.traverse(prepared, t_far, [&](std::uint32_t index, float& far) {
+    if (!enabled_[index]) return false;
     const Placed& p = placed_[index];
-    Ray local = transform_ray(p.world_to_object, ray);
+    Ray local = object_ray(p, ray);
     local.t_max = far;
     const Hit hit = bottoms_[p.geometry]->intersect(local);
     if (hit.found() && (!best.found() || hit.t < best.t)) {
@@ -65,8 +99,9 @@ bool InstancedAccelerator::occluded(const Ray& ray) const {
   bool found = false;
   float t_far = ray.t_max;
   top_.traverse(prepared, t_far, [&](std::uint32_t index, float&) {
+    if (!enabled_[index]) return false;
     const Placed& p = placed_[index];
-    found = bottoms_[p.geometry]->occluded(transform_ray(p.world_to_object, ray));
+    found = bottoms_[p.geometry]->occluded(object_ray(p, ray));
     return found;
   });
   return found;
@@ -93,7 +128,8 @@ std::size_t InstancedAccelerator::bottom_memory_bytes() const {
 }
 
 std::size_t InstancedAccelerator::top_memory_bytes() const {
-  return top_.memory_bytes() + placed_.capacity() * sizeof(Placed) + boxes_.capacity() * sizeof(AABB);
+  return top_.memory_bytes() + placed_.capacity() * sizeof(Placed) + boxes_.capacity() * sizeof(AABB) +
+         enabled_.capacity();
 }
 
 std::vector<std::string> InstancedAccelerator::validate() const {

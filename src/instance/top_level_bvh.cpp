@@ -1,9 +1,11 @@
-// TopLevelBvh: the build (binned SAH over instance boxes, then boxes fitted bottom-up) and its validation.
+// TopLevelBvh: the build (binned SAH over instance boxes, then boxes fitted bottom-up), the refit (the same
+// bottom-up pass over the kept tree) and its validation.
 #include "rayaccel/instance/top_level_bvh.h"
 
 #include <string>
 
 #include "rayaccel/bvh/binned_sah_builder.h"
+#include "rayaccel/core/error.h"
 
 namespace rayaccel {
 
@@ -21,9 +23,37 @@ AABB fit_boxes(const BuildTree& tree, std::vector<TopLevelNode>& nodes, std::uin
   return box;
 }
 
+AABB refit_boxes(std::vector<TopLevelNode>& nodes, const std::vector<std::uint32_t>& items,
+                 std::span<const AABB> boxes, std::uint32_t node) {
+  TopLevelNode& n = nodes[node];
+  AABB box;
+  if (n.count > 0) {
+    for (std::uint32_t i = n.first; i < n.first + n.count; ++i) box.extend(boxes[items[i]]);
+  } else {
+    box = merge(refit_boxes(nodes, items, boxes, n.first), refit_boxes(nodes, items, boxes, n.first + 1));
+  }
+  nodes[node].box = box;
+  return box;
+}
+
 }  // namespace
 
+void TopLevelBvh::refit(std::span<const AABB> boxes) {
+  std::size_t non_empty = 0;
+  for (const AABB& box : boxes) non_empty += box.is_empty() ? 0 : 1;
+  if (boxes.size() != built_count_ || non_empty != items_.size()) {
+    throw Error("TopLevelBvh::refit: " + std::to_string(boxes.size()) + " boxes (" + std::to_string(non_empty) +
+                " not empty), the tree was built over " + std::to_string(built_count_) + " (" +
+                std::to_string(items_.size()) + " not empty)");
+  }
+  for (const std::uint32_t item : items_) {
+    if (boxes[item].is_empty()) throw Error("TopLevelBvh::refit: box " + std::to_string(item) + " became empty");
+  }
+  if (!nodes_.empty()) refit_boxes(nodes_, items_, boxes, 0);
+}
+
 void TopLevelBvh::build(std::span<const AABB> boxes) {
+  built_count_ = boxes.size();
   PrimRefs refs;
   refs.reserve(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {

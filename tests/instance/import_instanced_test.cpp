@@ -5,13 +5,13 @@
 
 #include <array>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include <unistd.h>
 
+#include "gltf_file.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/instance/flatten.h"
 #include "rayaccel/instance/import_instanced.h"
@@ -20,44 +20,16 @@
 namespace rayaccel {
 namespace {
 
-std::string base64(const unsigned char* data, std::size_t size) {
-  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < size; i += 3) {
-    const std::uint32_t b0 = data[i], b1 = i + 1 < size ? data[i + 1] : 0, b2 = i + 2 < size ? data[i + 2] : 0;
-    const std::uint32_t triple = (b0 << 16) | (b1 << 8) | b2;
-    out += digits[(triple >> 18) & 63];
-    out += digits[(triple >> 12) & 63];
-    out += i + 1 < size ? digits[(triple >> 6) & 63] : '=';
-    out += i + 2 < size ? digits[triple & 63] : '=';
-  }
-  return out;
-}
-
 /// One triangle, used by node 0 (at the origin), node 1 (translated by x = 5) and node 2, the child of node 1
 /// scaled by 2 and translated by y = 3 in its parent's space.
 std::filesystem::path write_gltf() {
   const std::array<float, 9> positions{0, 0, 0, 1, 0, 0, 0, 1, 0};
-  unsigned char bytes[sizeof(positions)];
-  std::memcpy(bytes, positions.data(), sizeof(bytes));
-  const std::string json = R"({
-  "asset": {"version": "2.0"},
-  "scene": 0,
-  "scenes": [{"nodes": [0, 1]}],
-  "nodes": [
+  const auto path = std::filesystem::temp_directory_path() / ("rayaccel_instanced_" + std::to_string(::getpid()) + ".gltf");
+  testing::write_gltf(path, positions, "[0, 1]", R"([
     {"mesh": 0},
     {"mesh": 0, "translation": [5, 0, 0], "children": [2]},
     {"mesh": 0, "translation": [0, 3, 0], "scale": [2, 2, 2]}
-  ],
-  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 4}]}],
-  "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,)" +
-                           base64(bytes, sizeof(bytes)) + R"("}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]}]
-})";
-  const auto path = std::filesystem::temp_directory_path() / ("rayaccel_instanced_" + std::to_string(::getpid()) + ".gltf");
-  std::ofstream(path) << json;
+  ])");
   return path;
 }
 

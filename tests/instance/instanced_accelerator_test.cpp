@@ -12,6 +12,8 @@
 //   unobstructed may disagree only where the instanced side found another triangle near its edge.
 // - Rays aimed through a vertex of an instance of the closed sphere, towards its center, must hit (no gap at a vertex
 //   inside one instance: the bottom level's watertight guarantee on the one mapped ray).
+// Disabled instances (set_enabled()) are compared against the flattened scene of the enabled ones alone, and a
+// refitted top level (update_top()) against the flattened moved scene.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -90,7 +92,7 @@ class Comparison {
       return;
     }
     if (!ref.found()) return;
-    const std::uint32_t ref_instance = flat_.instance_of(ref.prim_id);
+    const std::uint32_t ref_instance = accel_instance(flat_.instance_of(ref.prim_id));
     const auto ref_prim = static_cast<std::uint32_t>(ref.prim_id - flat_.first_prim[ref_instance]);
     const bool same = ref_instance == got.instance && ref_prim == got.prim_id;
     const bool close = std::fabs(double(got.t) - double(ref.t)) <= allowed_t_error(ray, ref);
@@ -109,8 +111,15 @@ class Comparison {
   const FlattenedScene& flat() const { return flat_; }
   double radius() const { return radius_; }
   void set_geometry_of(std::vector<std::uint32_t> geometry) { geometry_ = std::move(geometry); }
+  /// When the reference scene holds a subset of the structure's instances: its instance i is the structure's
+  /// instance_map[i].
+  void set_instance_map(std::vector<std::uint32_t> instance_map) { instance_map_ = std::move(instance_map); }
 
  private:
+  std::uint32_t accel_instance(std::uint32_t reference_instance) const {
+    return instance_map_.empty() ? reference_instance : instance_map_.at(reference_instance);
+  }
+
   std::uint32_t accel_geometry(std::uint32_t instance) const { return geometry_.at(instance); }
 
   double allowed_t_error(const Ray& ray, const Hit& ref) const {
@@ -137,6 +146,7 @@ class Comparison {
   std::unique_ptr<Accelerator> reference_;
   double radius_ = 0.0;
   std::vector<std::uint32_t> geometry_;
+  std::vector<std::uint32_t> instance_map_;
 };
 
 std::vector<std::uint32_t> geometries_of(const InstancedScene& scene) {
@@ -150,11 +160,15 @@ Vec3 random_point(std::mt19937& rng, float half) {
   return {d(rng), d(rng), d(rng)};
 }
 
-/// Random rays, and rays from random points at interior points of random triangles (barycentrics >= 0.1).
+/// Random rays, and rays from random points at interior points of random triangles (barycentrics >= 0.1). The
+/// reference is `scene` flattened; `accel` may hold more instances (`accel_scene`, with `instance_map` naming which
+/// of them the reference's are).
 Tally compare_rays(const InstancedScene& scene, const InstancedAccelerator& accel, std::uint32_t seed,
-                   int rays_per_kind = 600) {
+                   int rays_per_kind = 600, const InstancedScene* accel_scene = nullptr,
+                   std::vector<std::uint32_t> instance_map = {}) {
   Comparison comparison(scene);
-  comparison.set_geometry_of(geometries_of(scene));
+  comparison.set_geometry_of(geometries_of(accel_scene ? *accel_scene : scene));
+  comparison.set_instance_map(std::move(instance_map));
   std::mt19937 rng(seed);
   Tally tally;
   for (int i = 0; i < rays_per_kind; ++i) {
@@ -202,6 +216,57 @@ TEST_P(ConformanceInstanced, MovedInstancesAfterRebuildTop) {
   accel.rebuild_top();
   EXPECT_TRUE(accel.validate().empty());
   compare_rays(scene, accel, 12);
+}
+
+TEST_P(ConformanceInstanced, RefittedTopLevelAfterMoves) {
+  InstancedScene scene = make_scene(36, 8);
+  InstancedAccelerator accel({GetParam()});
+  accel.build(scene);
+  std::mt19937 rng(3);
+  for (std::uint32_t i = 0; i < scene.instance_count(); i += 2) {
+    const Vec3 by = random_point(rng, 6.0f);
+    scene.set_transform(i, Affine3::translation(by.x, by.y, by.z) *
+                               Affine3::rotation({0.0f, 1.0f, 0.5f}, 0.3 * (i + 1)) * scene.instance(i).transform);
+  }
+  const std::uint32_t nodes = accel.top().node_count();
+  EXPECT_EQ(accel.update_top(), UpdateKind::refitted);
+  EXPECT_EQ(accel.top().node_count(), nodes);
+  EXPECT_TRUE(accel.validate().empty());
+  compare_rays(scene, accel, 15);
+  // An instance added since the build: the tree must change, so update_top() rebuilds.
+  scene.add_instance(1, Affine3::translation(0.0, 30.0, 0.0), 1000 + scene.instance_count());
+  EXPECT_EQ(accel.update_top(), UpdateKind::rebuilt);
+  EXPECT_TRUE(accel.validate().empty());
+  compare_rays(scene, accel, 16, 300);
+}
+
+TEST_P(ConformanceInstanced, DisabledInstancesAreNeverHit) {
+  const InstancedScene scene = make_scene(36, 17);
+  InstancedAccelerator accel({GetParam()});
+  accel.build(scene);
+  // The reference: the same geometries with the enabled instances alone.
+  InstancedScene enabled_only;
+  for (std::uint32_t g = 0; g < scene.geometry_count(); ++g) {
+    enabled_only.add_geometry(std::make_shared<const Scene>(scene.geometry(g)));
+  }
+  std::vector<std::uint32_t> instance_map;
+  for (std::uint32_t i = 0; i < scene.instance_count(); ++i) {
+    const bool enabled = i % 3 != 0;
+    accel.set_enabled(i, enabled);
+    EXPECT_EQ(accel.is_enabled(i), enabled);
+    if (!enabled) continue;
+    const Instance& instance = scene.instance(i);
+    enabled_only.add_instance(instance.geometry, instance.transform, instance.instance_id);
+    instance_map.push_back(i);
+  }
+  compare_rays(enabled_only, accel, 18, 600, &scene, instance_map);
+  // The setting survives a top-level rebuild; enabling everything again restores the whole scene.
+  accel.rebuild_top();
+  compare_rays(enabled_only, accel, 19, 200, &scene, instance_map);
+  for (std::uint32_t i = 0; i < scene.instance_count(); ++i) accel.set_enabled(i, true);
+  compare_rays(scene, accel, 20, 200);
+  EXPECT_THROW(accel.set_enabled(scene.instance_count(), false), Error);
+  EXPECT_THROW(static_cast<void>(accel.is_enabled(scene.instance_count())), Error);
 }
 
 TEST_P(ConformanceInstanced, RaysThroughVerticesOfAClosedInstanceHitIt) {

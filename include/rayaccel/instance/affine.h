@@ -28,6 +28,8 @@ struct Affine3 {
   double& operator()(int row, int col) { return m[static_cast<std::size_t>(row * 4 + col)]; }
 
   bool is_finite() const;
+  /// True when every entry is exactly that of the identity (a -0 counts as 0).
+  bool is_identity() const { return m == identity().m; }
   /// Determinant of the linear part; negative for a mirroring transform.
   double determinant() const;
   /// The inverse transform. Throws Error for a non-finite transform or a singular one (|det| <= 1e-12 * s^3, s the

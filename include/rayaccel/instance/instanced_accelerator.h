@@ -15,6 +15,17 @@
 // by at most about 2^-24 * (|o'| + t |d'|) in object space (o', d' the mapped ray). Mapped back to the world, that
 // is a relative error of order 2^-24 times the transform's condition number, which tests/instance compares against
 // the flattened scene (every instance's vertices mapped in double, rounded to float).
+//
+// Several geometries side by side. An instance whose transform is exactly the identity (Affine3::is_identity())
+// traces the world ray itself, unmapped and unrounded, so geometries placed with the identity are tested against one
+// and the same float ray: a ray through an edge or vertex shared by triangles of two such geometries hits at least
+// one of them, as within one mesh. Mapping through the identity would not be exact (-0 becomes +0 in a direction,
+// and an infinite component becomes NaN through the zero entries).
+//
+// Enabling and disabling instances (set_enabled()) is a property of this structure, not of the scene: it is read
+// during the top-level traversal, so it needs no rebuild, and two structures over one scene may show different
+// subsets (as a ray mask would). The top level can be refitted after moves (update_top()): the tree is kept and its
+// boxes recomputed bottom-up, cheaper than rebuild_top() but slower to trace after large moves.
 // World boxes are the 8 mapped corners of each bottom level's bounds, rounded outward (transform_box()).
 #pragma once
 
@@ -65,6 +76,15 @@ class InstancedAccelerator {
   /// Rebuilds only the top level, from the scene's current transforms (after InstancedScene::set_transform()); the
   /// bottom levels stay. Queries see the transforms of the last build() or rebuild_top().
   void rebuild_top();
+  /// Like rebuild_top(), but keeps the top level's tree and recomputes its boxes bottom-up from the instances' new
+  /// world boxes (refitted), unless the scene's instance count changed since, when it rebuilds (rebuilt).
+  UpdateKind update_top();
+
+  /// Shows or hides instance `instance` (an index into the scene) from every later query, without a rebuild; all
+  /// are enabled after build(), and rebuild_top() / update_top() keep the setting (instances added since start
+  /// enabled). Throws Error for an index out of range.
+  void set_enabled(std::uint32_t instance, bool enabled);
+  bool is_enabled(std::uint32_t instance) const;
 
   /// Closest hit with ray.t_min < t <= ray.t_max over all instances; a miss has found() false and t = +inf. A void
   /// ray (see PreparedRay) misses. Of hits at the same t in two instances, the first found is kept.
@@ -91,13 +111,22 @@ class InstancedAccelerator {
     Affine3 world_to_object;
     std::uint32_t geometry = 0;
     std::uint32_t instance_id = 0;
+    bool identity = false;  ///< the transform is exactly the identity: trace the world ray itself
   };
+
+  /// Fills placed_ and boxes_ from the scene's current instances; keeps enabled_ (new instances enabled).
+  void place_instances();
+  /// The ray as instance `p` sees it.
+  static Ray object_ray(const Placed& p, const Ray& ray) {
+    return p.identity ? ray : transform_ray(p.world_to_object, ray);
+  }
 
   InstancedAcceleratorOptions options_;
   const InstancedScene* scene_ = nullptr;
   std::vector<std::unique_ptr<Accelerator>> bottoms_;
   std::vector<Placed> placed_;
   std::vector<AABB> boxes_;
+  std::vector<std::uint8_t> enabled_;  ///< per instance: 1 when queries see it
   TopLevelBvh top_;
 };
 

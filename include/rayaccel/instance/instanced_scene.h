@@ -33,7 +33,7 @@ class InstancedScene {
   std::uint32_t add_instance(std::uint32_t geometry, const Affine3& object_to_world, std::uint32_t instance_id);
 
   /// Moves instance `index` (the same checks as add_instance). Structures built over the scene see the change after
-  /// InstancedAccelerator::rebuild_top().
+  /// InstancedAccelerator::rebuild_top() or update_top().
   void set_transform(std::uint32_t index, const Affine3& object_to_world);
 
   std::uint32_t geometry_count() const { return static_cast<std::uint32_t>(geometries_.size()); }

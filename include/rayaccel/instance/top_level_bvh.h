@@ -29,6 +29,9 @@ class TopLevelBvh {
   /// Builds over boxes[i] for every i; empty boxes (instances of empty geometry) are left out. Rebuilding replaces
   /// the previous tree.
   void build(std::span<const AABB> boxes);
+  /// Keeps the tree and recomputes every node's box bottom-up from `boxes` (the same count as built over, each
+  /// empty exactly where it was). Throws Error otherwise.
+  void refit(std::span<const AABB> boxes);
 
   /// Calls visit(item, t_far) for every item whose box (and every ancestor's) the ray's segment [ray.t_min, t_far]
   /// touches, nearer subtrees first. visit may shrink t_far (to the closest hit so far) and returns true to stop.
@@ -81,6 +84,7 @@ class TopLevelBvh {
  private:
   std::vector<TopLevelNode> nodes_;
   std::vector<std::uint32_t> items_;  // leaf order
+  std::size_t built_count_ = 0;       // boxes.size() at the last build
 };
 
 }  // namespace rayaccel
