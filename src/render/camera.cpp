@@ -71,9 +71,13 @@ Camera Camera::framing(const AABB& box) {
   const Vec3 center{static_cast<float>(0.5 * (double(box.lo.x) + box.hi.x)),
                     static_cast<float>(0.5 * (double(box.lo.y) + box.hi.y)),
                     static_cast<float>(0.5 * (double(box.lo.z) + box.hi.z))};
-  // A single point still needs a distance, small but resolvable at the magnitude of its coordinates.
-  const double radius =
-      std::fmax(0.5 * std::sqrt(ex * ex + ey * ey + ez * ez), std::fmax(max_component(abs(center)) * 1e-3, 1e-3));
+  // The box's own size sets the distance, so a scene 1e-18 across is framed from about 1e-18 away (an absolute
+  // floor would put it at a speck of a pixel, and its rays in the far-ray regime). A flat or single-point box still
+  // needs a distance resolvable at the magnitude of its coordinates, kept out of float's subnormal range; a point at
+  // the origin gets 1e-3.
+  const double size =
+      std::fmax(0.5 * std::sqrt(ex * ex + ey * ey + ez * ez), max_component(abs(center)) * 1e-3);
+  const double radius = size > 0.0 ? std::fmax(size, 1e-30) : 1e-3;
 
   Camera cam;
   cam.fov_degrees = kDefaultFramingFov;

@@ -134,10 +134,24 @@ TEST(Camera, FramingSeesTheWholeBox) {
   }
 }
 
+TEST(Camera, FramingStandsAtTheBoxsOwnScale) {
+  // A scene 1e-18 across is framed from about its own size away, not from a fixed 1e-3 (1e15 of its sizes, where it
+  // covers no pixel); a point far from the origin from a distance of order 1e-3 of its distance to the origin.
+  const AABB tiny({1e-18f, 1e-18f, 1e-18f}, {2e-18f, 3e-18f, 2e-18f});
+  const Camera near = Camera::framing(tiny);
+  EXPECT_LT(length(near.eye - near.at), 1e-16f);
+  EXPECT_GT(length(near.eye - near.at), 1e-19f);
+  const AABB far_point = AABB::of_point({1e6f, 0.0f, 0.0f});
+  const Camera far = Camera::framing(far_point);
+  EXPECT_GT(length(far.eye - far.at), 100.0f);
+  EXPECT_LT(length(far.eye - far.at), 1e4f);
+}
+
 TEST(Camera, FramingDegenerateBoxesHasNoNaN) {
   const AABB point = AABB::of_point({2.0f, 3.0f, 4.0f});
   const AABB origin = AABB::of_point({0.0f, 0.0f, 0.0f});
-  for (const AABB& box : {point, origin, AABB::empty()}) {
+  const AABB subnormal({1e-40f, 0.0f, 0.0f}, {2e-40f, 1e-45f, 0.0f});
+  for (const AABB& box : {point, origin, subnormal, AABB::empty()}) {
     const Camera cam = Camera::framing(box);
     EXPECT_TRUE(is_finite(cam.eye));
     EXPECT_TRUE(is_finite(cam.at));
