@@ -6,11 +6,48 @@
 
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/float_rounding.h"
 
 namespace rayaccel {
 
 InstancedAccelerator::InstancedAccelerator(InstancedAcceleratorOptions options) : options_(std::move(options)) {
   make_accelerator(options_.bottom);  // an unknown spec fails here, naming the known structures or keys
+  if (options_.top != kTopLevelBvh) user_top_ = make_accelerator(options_.top);
+}
+
+Hit InstancedAccelerator::trace_instance(std::uint32_t index, const Ray& ray) const {
+  const Placed& p = placed_[index];
+  return bottoms_[p.geometry]->intersect(object_ray(p, ray));
+}
+
+UserPrimitives InstancedAccelerator::top_primitives() const {
+  UserPrimitives prims;
+  prims.count = static_cast<std::uint32_t>(placed_.size());
+  prims.bounds = [this](std::uint32_t index) { return boxes_[index]; };
+  prims.intersect = [this](std::uint32_t index, const PreparedRay& prepared, Hit& hit) {
+    if (!enabled_[index]) return false;
+    // hit.t is the exclusive far bound (Hit::begin()); the bottom level takes an inclusive one. The direction is the
+    // one every kernel reads (readable_direction()), so an identity instance still sees the world ray.
+    const float t_max = hit.t == std::numeric_limits<float>::infinity() ? hit.t : next_float_down(hit.t);
+    const Hit found = trace_instance(index, Ray{prepared.origin, prepared.t_min, prepared.direction, t_max});
+    if (!found.found() || !(found.t < hit.t)) return false;
+    hit = Hit{found.t, index, found.u, found.v};
+    return true;
+  };
+  return prims;
+}
+
+UpdateKind InstancedAccelerator::build_user_top(bool refit) {
+  try {
+    if (!top_scene_) top_scene_ = std::make_unique<Scene>();
+    *top_scene_ = Scene::from_user(top_primitives(), "instances");  // same address: update() may refit
+    if (refit) return user_top_->update(*top_scene_);
+    user_top_->build(*top_scene_);
+    return UpdateKind::rebuilt;
+  } catch (const Error& e) {
+    throw Error("InstancedAccelerator: top level '" + options_.top + "' cannot be built over the instances (user " +
+                "primitives): " + e.what());
+  }
 }
 
 void InstancedAccelerator::build(const InstancedScene& scene) {
@@ -43,12 +80,17 @@ void InstancedAccelerator::place_instances() {
 
 void InstancedAccelerator::rebuild_top() {
   place_instances();
-  top_.build(boxes_);
+  if (user_top()) {
+    build_user_top(false);
+  } else {
+    top_.build(boxes_);
+  }
 }
 
 UpdateKind InstancedAccelerator::update_top() {
   const std::size_t before = placed_.size();
   place_instances();
+  if (user_top()) return build_user_top(placed_.size() == before);
   if (placed_.size() != before) {
     top_.build(boxes_);
     return UpdateKind::rebuilt;
@@ -77,6 +119,20 @@ InstanceHit InstancedAccelerator::intersect(const Ray& ray) const {
   InstanceHit best;
   const PreparedRay prepared(ray);
   if (prepared.is_void()) return best;
+  if (user_top()) {
+    const Hit top_hit = user_top_->intersect(ray);
+    if (!top_hit.found()) return best;
+    // The top level names the instance and t; tracing that instance again up to t (inclusive) recovers the
+    // bottom level's primitive, u and v (at a tie, possibly another primitive at exactly that t).
+    Ray again = ray;
+    again.t_max = top_hit.t;
+    const Hit hit = trace_instance(top_hit.prim_id, again);
+    const Placed& p = placed_[top_hit.prim_id];
+    if (!hit.found()) {
+      throw Error("InstancedAccelerator: instance " + std::to_string(top_hit.prim_id) + " traced again missed");
+    }
+    return InstanceHit{hit.t, hit.prim_id, hit.u, hit.v, p.instance_id, top_hit.prim_id, p.geometry};
+  }
   float t_far = ray.t_max;
   top_.traverse(prepared, t_far, [&](std::uint32_t index, float& far) {
     if (!enabled_[index]) return false;
@@ -96,6 +152,7 @@ InstanceHit InstancedAccelerator::intersect(const Ray& ray) const {
 bool InstancedAccelerator::occluded(const Ray& ray) const {
   const PreparedRay prepared(ray);
   if (prepared.is_void()) return false;
+  if (user_top()) return user_top_->occluded(ray);
   bool found = false;
   float t_far = ray.t_max;
   top_.traverse(prepared, t_far, [&](std::uint32_t index, float&) {
@@ -128,7 +185,8 @@ std::size_t InstancedAccelerator::bottom_memory_bytes() const {
 }
 
 std::size_t InstancedAccelerator::top_memory_bytes() const {
-  return top_.memory_bytes() + placed_.capacity() * sizeof(Placed) + boxes_.capacity() * sizeof(AABB) +
+  const std::size_t top_bytes = user_top() ? user_top_->memory_bytes() : top_.memory_bytes();
+  return top_bytes + placed_.capacity() * sizeof(Placed) + boxes_.capacity() * sizeof(AABB) +
          enabled_.capacity();
 }
 
@@ -139,7 +197,11 @@ std::vector<std::string> InstancedAccelerator::validate() const {
       problems.push_back("geometry " + std::to_string(g) + ": " + line);
     }
   }
-  for (std::string& line : top_.validate(boxes_)) problems.push_back(std::move(line));
+  if (user_top()) {
+    for (const std::string& line : user_top_->validate()) problems.push_back("top: " + line);
+  } else {
+    for (std::string& line : top_.validate(boxes_)) problems.push_back(std::move(line));
+  }
   return problems;
 }
 

@@ -27,6 +27,14 @@
 // subsets (as a ray mask would). The top level can be refitted after moves (update_top()): the tree is kept and its
 // boxes recomputed bottom-up, cheaper than rebuild_top() but slower to trace after large moves.
 // World boxes are the 8 mapped corners of each bottom level's bounds, rounded outward (transform_box()).
+//
+// The top level (option `top`). "bvh_top" is the TopLevelBvh above. Any other registry spec builds that structure
+// over a Scene of user primitives (Scene::from_user), one per instance: its bounds are the instance's world box and
+// its ray test maps the ray into the instance (as above) and traces the bottom level, reporting the instance index
+// as prim_id. The bottom level's primitive, u and v are then recovered by tracing that one instance again with
+// t up to the reported t (inclusive), so no structure's internal order of tests matters. occluded() asks the top
+// structure's occluded(); its per-instance test is the bottom level's closest hit, as a user primitive must report
+// its t. A structure that cannot take user primitives is refused with an Error naming it.
 #pragma once
 
 #include <cstddef>
@@ -64,14 +72,23 @@ struct InstanceHit {
 struct InstancedAcceleratorOptions {
   /// Registry spec of every bottom-level structure, e.g. "bvh_wide", "bvh:bv=obb", "kdtree" (any registered name).
   std::string bottom = "bvh_wide";
+  /// The top level: kTopLevelBvh (TopLevelBvh) or a registry spec built over one user primitive per instance.
+  std::string top = "bvh_top";
 };
+
+/// The `top` value that selects TopLevelBvh.
+inline constexpr const char* kTopLevelBvh = "bvh_top";
 
 class InstancedAccelerator {
  public:
   explicit InstancedAccelerator(InstancedAcceleratorOptions options = {});
+  // A user-primitive top level's callbacks refer to this object: it stays where it was made.
+  InstancedAccelerator(const InstancedAccelerator&) = delete;
+  InstancedAccelerator& operator=(const InstancedAccelerator&) = delete;
 
   /// Builds one bottom level per geometry and the top level. `scene` must outlive this object and stay at the same
-  /// address. Throws Error for an unknown bottom spec (from the registry).
+  /// address. Throws Error for an unknown bottom spec (from the registry), or a top structure that cannot be built
+  /// over user primitives.
   void build(const InstancedScene& scene);
   /// Rebuilds only the top level, from the scene's current transforms (after InstancedScene::set_transform()); the
   /// bottom levels stay. Queries see the transforms of the last build() or rebuild_top().
@@ -97,6 +114,8 @@ class InstancedAccelerator {
 
   const std::string& bottom_spec() const { return options_.bottom; }
   const Accelerator& bottom(std::uint32_t geometry) const { return *bottoms_[geometry]; }
+  const std::string& top_spec() const { return options_.top; }
+  /// The TopLevelBvh (empty when `top` names a registry structure).
   const TopLevelBvh& top() const { return top_; }
   /// Bytes of the bottom levels' own data (each geometry once).
   std::size_t bottom_memory_bytes() const;
@@ -120,6 +139,13 @@ class InstancedAccelerator {
   static Ray object_ray(const Placed& p, const Ray& ray) {
     return p.identity ? ray : transform_ray(p.world_to_object, ray);
   }
+  bool user_top() const { return user_top_ != nullptr; }
+  /// Builds (or, with `refit`, updates) the registry top level over the current placed_ and boxes_.
+  UpdateKind build_user_top(bool refit);
+  /// The user primitives of the registry top level: one per instance.
+  UserPrimitives top_primitives() const;
+  /// Closest hit of instance `index` with t_min < t <= t_max (the ray in world space), in its bottom level.
+  Hit trace_instance(std::uint32_t index, const Ray& ray) const;
 
   InstancedAcceleratorOptions options_;
   const InstancedScene* scene_ = nullptr;
@@ -128,6 +154,8 @@ class InstancedAccelerator {
   std::vector<AABB> boxes_;
   std::vector<std::uint8_t> enabled_;  ///< per instance: 1 when queries see it
   TopLevelBvh top_;
+  std::unique_ptr<Accelerator> user_top_;  ///< the registry top level, when options_.top is not kTopLevelBvh
+  std::unique_ptr<Scene> top_scene_;       ///< its user primitives (kept at one address so that it can refit)
 };
 
 }  // namespace rayaccel
