@@ -5,7 +5,7 @@ levels").
     iscene = rayaccel.InstancedScene()
     g = iscene.add_geometry(rayaccel.load("bunny.ply"))
     iscene.add_instance(g, np.eye(4))                 # (3, 4) or (4, 4) object-to-world transform
-    accel = rayaccel.build_instanced(iscene, bottom="bvh_wide")
+    accel = rayaccel.build_instanced(iscene, bottom="bvh_wide", top="bvh_top")
     hits = accel.intersect(origins, directions)       # IHIT_DTYPE: t, prim_id, u, v, geom_id, instance_id
 """
 import numpy as np
@@ -39,14 +39,15 @@ class InstancedScene(_core._InstancedScene):
 
 
 class InstancedAccelerator(_core._InstancedAccelerator):
-    """A two-level structure over an InstancedScene; bottom is the spec of every geometry's structure. Rays as for
-    Accelerator: a (..., 8) array, or origins and directions with t_min and t_max."""
+    """A two-level structure over an InstancedScene; bottom is the spec of every geometry's structure, top the top
+    level's ("bvh_top", the BVH over instance boxes, or any registry spec built over one user primitive per
+    instance). Rays as for Accelerator: a (..., 8) array, or origins and directions with t_min and t_max."""
 
-    def __init__(self, bottom="bvh_wide"):
-        super().__init__(str(bottom))
+    def __init__(self, bottom="bvh_wide", top="bvh_top"):
+        super().__init__(str(bottom), str(top))
 
     def __repr__(self):
-        return f"<rayaccel.InstancedAccelerator bottom '{self.bottom}'>"
+        return f"<rayaccel.InstancedAccelerator bottom '{self.bottom}', top '{self.top}'>"
 
     def intersect(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
         """Closest hits: an IHIT_DTYPE array shaped like the rays (t, prim_id within the geometry, u, v, geom_id,
@@ -60,10 +61,11 @@ class InstancedAccelerator(_core._InstancedAccelerator):
         return self._occluded(flat, bool(check)).reshape(shape)
 
 
-def build_instanced(scene, bottom="bvh_wide"):
-    """Builds an InstancedAccelerator over an InstancedScene; ValueError for an unknown bottom spec."""
+def build_instanced(scene, bottom="bvh_wide", top="bvh_top"):
+    """Builds an InstancedAccelerator over an InstancedScene; ValueError for an unknown bottom or top spec, or a top
+    structure that cannot take user primitives."""
     if not isinstance(scene, _core._InstancedScene):
         raise TypeError(f"build_instanced() needs a rayaccel.InstancedScene, not {type(scene).__name__}")
-    accel = InstancedAccelerator(bottom)
+    accel = InstancedAccelerator(bottom, top)
     accel.build(scene)
     return accel

@@ -121,7 +121,8 @@ class PyInstancedScene {
 
 class PyInstancedAccelerator {
  public:
-  explicit PyInstancedAccelerator(const std::string& bottom) : accel_(InstancedAcceleratorOptions{bottom}) {}
+  PyInstancedAccelerator(const std::string& bottom, const std::string& top)
+      : accel_(InstancedAcceleratorOptions{bottom, top}) {}
 
   /// Builds over `scene`; again over the same scene after geometries were added (another scene needs another
   /// structure, so that batches running on other threads always see one scene's lock).
@@ -154,6 +155,7 @@ class PyInstancedAccelerator {
     return accel_.is_enabled(instance);
   }
   const std::string& bottom() const { return accel_.bottom_spec(); }
+  const std::string& top() const { return accel_.top_spec(); }
   std::size_t memory_bytes() const {
     std::shared_lock lock(require_built().mutex);
     return accel_.memory_bytes();
@@ -228,7 +230,7 @@ void bind_instances(py::module_& m) {
       .def_property_readonly("geometry_count", &PyInstancedScene::geometry_count)
       .def_property_readonly("instance_count", &PyInstancedScene::instance_count);
   py::class_<PyInstancedAccelerator>(m, "_InstancedAccelerator")
-      .def(py::init<const std::string&>(), py::arg("bottom"))
+      .def(py::init<const std::string&, const std::string&>(), py::arg("bottom"), py::arg("top"))
       .def("build", &PyInstancedAccelerator::build, py::arg("scene"))
       .def("rebuild_top", &PyInstancedAccelerator::rebuild_top,
            "Rebuilds the top level from the scene's current transforms (the bottom levels stay)")
@@ -239,6 +241,7 @@ void bind_instances(py::module_& m) {
            "Shows or hides instance index from later queries, without a rebuild")
       .def("is_enabled", &PyInstancedAccelerator::is_enabled, py::arg("index"))
       .def_property_readonly("bottom", &PyInstancedAccelerator::bottom)
+      .def_property_readonly("top", &PyInstancedAccelerator::top)
       .def_property_readonly("memory_bytes", &PyInstancedAccelerator::memory_bytes)
       .def("validate", &PyInstancedAccelerator::validate)
       .def("_intersect", &PyInstancedAccelerator::intersect, py::arg("rays"), py::arg("check"))

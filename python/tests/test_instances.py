@@ -129,6 +129,16 @@ def test_matches_flattened_brute_force():
     np.testing.assert_array_equal(accel.intersect(rays[:, 0:3], rays[:, 4:7]), got)
 
 
+@pytest.mark.parametrize("top", ["bvh_top", "bvh_wide", "kdtree"])
+def test_top_level_structures_match_flattened_brute_force(top):
+    iscene, geometries, placements = _scene(20, 3)
+    accel = rayaccel.build_instanced(iscene, bottom="bvh_wide", top=top)
+    assert accel.top == top and accel.validate() == []
+    _compare(accel, geometries, placements, range(20), _rays(4))
+    with pytest.raises(ValueError, match="no_such_top"):
+        rayaccel.build_instanced(iscene, top="no_such_top")
+
+
 def test_identity_geometries_side_by_side_equal_brute_force_of_each():
     geometries = [_meshes()[1][0], random_spheres()]
     iscene = rayaccel.InstancedScene()
