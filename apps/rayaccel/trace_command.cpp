@@ -38,6 +38,7 @@ struct TraceArgs {
   std::string offset;               ///< --offset (double only)
   bool instances = false;               ///< the two-level trace (trace_instanced.h)
   std::vector<std::string> geometries;  ///< --geometry, with --instances only
+  std::string top;                      ///< --top, with --instances only
 };
 
 /// --precision double: refuses the options the double path lacks, then runs it.
@@ -56,7 +57,7 @@ int run_trace_instanced_hook(const TraceArgs& args, bool threads_given) {
     throw UsageError("--save and --load cannot be combined with --instances");
   }
   return run_trace_instanced({args.scene, args.geometries, args.rays, args.accel, args.occlusion, args.threads,
-                              args.repeat, args.out},
+                              args.repeat, args.out, args.top},
                              threads_given);
 }
 
@@ -68,6 +69,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   }
   if (args.instances) return run_trace_instanced_hook(args, threads_given);
   if (!args.geometries.empty()) throw UsageError("--geometry needs --instances");
+  if (!args.top.empty()) throw UsageError("--top needs --instances");
   if (threads_given) require_range(args.threads, 1, 4096, "--threads");
   require_range(args.repeat, 1, 1000000, "--repeat");
   if (args.precision == "double") {
@@ -221,6 +223,9 @@ Command add_trace_command(CLI::App& root) {
                   "With --instances: one more mesh file or builtin scene, placed with the identity beside SCENE "
                   "(repeatable)")
       ->allow_extra_args(false);
+  app->add_option("--top", args->top,
+                  "With --instances: the top level, bvh_top (the BVH over instance boxes, the default) or any "
+                  "structure spec, built over one user primitive per instance");
   return {app, [args, threads] { return run_trace(*args, threads->count() > 0); }};
 }
 

@@ -48,13 +48,15 @@ int run_trace_instanced(const InstancedTraceArgs& args, bool threads_given) {
   require_range(args.repeat, 1, 1000000, "--repeat");
   const std::string bottom = args.bottom.empty() ? InstancedAcceleratorOptions{}.bottom : args.bottom;
   check_accelerator_spec(bottom);
+  const std::string top = args.top.empty() ? InstancedAcceleratorOptions{}.top : args.top;
+  if (top != kTopLevelBvh) check_accelerator_spec(top);
   if (!args.out.empty()) check_output_path(args.out, args.occlusion ? "occlusion file" : "instance hit file");
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
   const InstancedScene scene = load_instanced_scene(args);
   const std::vector<Ray> rays = read_rays(args.rays);
 
-  InstancedAccelerator accel({bottom});
+  InstancedAccelerator accel({bottom, top});
   const Stopwatch build_clock;
   accel.build(scene);
   const double build_ms = build_clock.milliseconds();
@@ -88,6 +90,7 @@ int run_trace_instanced(const InstancedTraceArgs& args, bool threads_given) {
   nlohmann::json summary = {
       {"accel", "instanced"},
       {"bottom", accel.bottom_spec()},
+      {"top", accel.top_spec()},
       {"scene", args.scene},
       {"geometries", scene.geometry_count()},
       {"instances", scene.instance_count()},

@@ -16,6 +16,7 @@ struct InstancedTraceArgs {
   int threads = 0;
   int repeat = 5;
   std::string out;  ///< .ihits (or .occ with --occlusion)
+  std::string top;  ///< --top: the top level (InstancedAcceleratorOptions::top); empty for the default
 };
 
 /// Builds the two-level structure once, traces R times (median time), writes the output and prints the JSON summary.

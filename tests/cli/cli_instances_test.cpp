@@ -145,6 +145,8 @@ TEST(CliTraceInstances, BadOptionsAreUsageErrors) {
       {{"trace", scene, rays, "--instances", "--geometry", (c.dir / "missing.ply").string()}, "missing.ply"},
       {{"trace", (c.dir / "missing.gltf").string(), rays, "--instances"}, "missing.gltf"},
       {{"trace", scene, rays, "--instances", "--repeat", "0"}, "--repeat"},
+      {{"trace", scene, rays, "--top", "bvh"}, "--top needs --instances"},
+      {{"trace", scene, rays, "--instances", "--top", "no_such_top"}, "no_such_top"},
   };
   for (const Case& bad : cases) {
     const auto result = run_cli(bad.args);
@@ -163,6 +165,33 @@ TEST(CliTraceInstances, ABuiltinSceneIsOneInstance) {
   EXPECT_EQ(summary["geometries"], 1);
   EXPECT_EQ(summary["instances"], 1);
   EXPECT_EQ(testing::read_file(out).size(), read_rays(c.rays).size() * sizeof(InstanceHitRecord));
+}
+
+// --top names the top level: the .ihits equal the library's with that top level.
+TEST(CliTraceInstances, TopNamesTheTopLevel) {
+  const InstancedCase c = make_case();
+  const auto out = c.dir / "top.ihits";
+  const auto result = run_cli({"trace", kSphere, c.rays.string(), "--instances", "--top", "kdtree", "--repeat", "1",
+                               "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(nlohmann::json::parse(result.out)["top"], "kdtree");
+  InstancedScene scene;
+  scene.add_instance(scene.add_geometry(load_scene(kSphere)), Affine3::identity());
+  InstancedAcceleratorOptions options;
+  options.top = "kdtree";
+  InstancedAccelerator accel(options);
+  accel.build(scene);
+  const std::vector<Ray> rays = read_rays(c.rays);
+  const std::string bytes = testing::read_file(out);
+  ASSERT_EQ(bytes.size(), rays.size() * sizeof(InstanceHitRecord));
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const InstanceHit expected = accel.intersect(rays[i]);
+    const InstanceHitRecord want = to_record(expected);
+    EXPECT_EQ(std::memcmp(bytes.data() + i * sizeof(InstanceHitRecord), &want, sizeof(want)), 0) << "ray " << i;
+    found += expected.found() ? 1 : 0;
+  }
+  EXPECT_GT(found, rays.size() / 20) << "the sphere should be hit";
 }
 
 }  // namespace
