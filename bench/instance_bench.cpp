@@ -100,6 +100,26 @@ void instanced_trace(benchmark::State& state) {
   state.counters["hit_fraction"] = double(found) / double(rays.size());
 }
 
+/// The same camera rays on one thread (one intersect() per ray), with top level `top` (InstancedAcceleratorOptions):
+/// "bvh_top" (TopLevelBvh) against registry structures over one user primitive per instance.
+void instanced_trace_top(benchmark::State& state, const char* top) {
+  if (!bunny()) return state.SkipWithError("shared/scenes/bunny.ply not found");
+  const InstancedScene scene = bunny_grid(static_cast<std::uint32_t>(state.range(0)));
+  InstancedAcceleratorOptions options;
+  options.top = top;
+  InstancedAccelerator accel(options);
+  accel.build(scene);
+  const std::vector<Ray> rays = camera_rays(world_bounds(scene));
+  std::size_t found = 0;
+  for (auto _ : state) {
+    found = 0;
+    for (const Ray& ray : rays) found += accel.intersect(ray).found() ? 1 : 0;
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
+  state.counters["hit_fraction"] = double(found) / double(rays.size());
+  state.counters["top_KB"] = double(accel.top_memory_bytes()) / 1e3;
+}
+
 /// Every instance moved between two poses, then the top level brought up to date by `update` (timed).
 template <class Update>
 void move_every_instance(benchmark::State& state, Update update) {
@@ -151,6 +171,9 @@ void flattened_trace(benchmark::State& state) {
 
 BENCHMARK(instanced_build)->Arg(50)->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(instanced_trace)->Arg(50)->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(instanced_trace_top, bvh_top, "bvh_top")->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(instanced_trace_top, bvh_wide, "bvh_wide")->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(instanced_trace_top, bvh, "bvh")->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(instanced_rebuild_top)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(instanced_refit_top)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(flattened_build)->Arg(50)->Unit(benchmark::kMillisecond)->UseRealTime();
