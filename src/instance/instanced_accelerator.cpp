@@ -120,11 +120,12 @@ InstanceHit InstancedAccelerator::intersect(const Ray& ray) const {
   const PreparedRay prepared(ray);
   if (prepared.is_void()) return best;
   if (user_top()) {
-    const Hit top_hit = user_top_->intersect(ray);
-    if (!top_hit.found()) return best;
-    // The top level names the instance and t; tracing that instance again up to t (inclusive) recovers the
+    // The ray as the top level's callbacks see it (the direction as kernels read it), so that tracing the
+    // instance it names again, up to its t (inclusive), maps the same ray and finds that t; that recovers the
     // bottom level's primitive, u and v (at a tie, possibly another primitive at exactly that t).
-    Ray again = ray;
+    Ray again{prepared.origin, prepared.t_min, prepared.direction, prepared.t_max};
+    const Hit top_hit = user_top_->intersect(again);
+    if (!top_hit.found()) return best;
     again.t_max = top_hit.t;
     const Hit hit = trace_instance(top_hit.prim_id, again);
     const Placed& p = placed_[top_hit.prim_id];
@@ -185,7 +186,8 @@ std::size_t InstancedAccelerator::bottom_memory_bytes() const {
 }
 
 std::size_t InstancedAccelerator::top_memory_bytes() const {
-  const std::size_t top_bytes = user_top() ? user_top_->memory_bytes() : top_.memory_bytes();
+  std::size_t top_bytes = top_.memory_bytes();
+  if (user_top()) top_bytes = user_top_->memory_bytes() + (top_scene_ ? top_scene_->memory_bytes() : 0);
   return top_bytes + placed_.capacity() * sizeof(Placed) + boxes_.capacity() * sizeof(AABB) +
          enabled_.capacity();
 }

@@ -31,10 +31,13 @@
 // The top level (option `top`). "bvh_top" is the TopLevelBvh above. Any other registry spec builds that structure
 // over a Scene of user primitives (Scene::from_user), one per instance: its bounds are the instance's world box and
 // its ray test maps the ray into the instance (as above) and traces the bottom level, reporting the instance index
-// as prim_id. The bottom level's primitive, u and v are then recovered by tracing that one instance again with
-// t up to the reported t (inclusive), so no structure's internal order of tests matters. occluded() asks the top
-// structure's occluded(); its per-instance test is the bottom level's closest hit, as a user primitive must report
-// its t. A structure that cannot take user primitives is refused with an Error naming it.
+// as prim_id. The bottom level's primitive, u and v are then recovered by tracing that one instance again with t up
+// to the reported t (inclusive), so no structure's internal order of tests matters. Both traces read the ray's
+// direction as the kernels do (readable_direction(): subnormal components are zero) before mapping it. occluded()
+// asks the top structure's occluded(); its per-instance test is the bottom level's closest hit, as a user primitive
+// must report its t. A structure that cannot take user primitives is refused with an Error naming it. The default is
+// "bvh_top": on the 1,000-bunny grid of bench/instance_bench.cpp (one thread, median of 5) it traced 1.3-1.4 times
+// as fast as top = "bvh" and 1.7-2.0 times as fast as top = "bvh_wide" (BENCHMARKS.md, "Instances: two levels").
 #pragma once
 
 #include <cstddef>
