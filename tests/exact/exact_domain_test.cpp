@@ -27,8 +27,9 @@ Ray make_ray(Vec3 origin, Vec3 direction, float t_min = 0.0f, float t_max = std:
 
 /// The exact reference's verdict on brute force's answers for `ray` (empty when they agree).
 std::string brute_force_against_exact(const TriangleMesh& mesh, const Ray& ray) {
+  const Scene scene = Scene::from_mesh(mesh, "one");
   auto brute = make_accelerator("brute_force");
-  brute->build(Scene::from_mesh(mesh, "one"));
+  brute->build(scene);
   const Ray read = ray_as_read(ray);
   const auto hits = ExactReference(mesh).hits_past_t_min(read);
   const std::string fault = ExactReference::closest_hit_mismatch(read, hits, brute->intersect(ray));
