@@ -3,10 +3,12 @@
 #include "rayaccel/scene/scene.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <string>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/geometry/exact_edge.h"
 
 namespace rayaccel {
 
@@ -21,12 +23,17 @@ const char* to_string(PrimitiveKind kind) {
 
 namespace {
 
-/// Zero area in exact arithmetic: the edge cross product computed in double (products of floats are exact there).
+/// Zero area in exact arithmetic: each component of the cross product (b - a) x (c - a) is the edge function of b
+/// and c for a ray from a along that axis, whose exact sign exact_edge_function() gives. (Computed in double, the
+/// differences of floats far apart in magnitude round, and a thin triangle 1e24 long read as zero area: fuzz corpus
+/// thin-triangle-read-as-zero-area.)
 bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double e1x = double(b.x) - a.x, e1y = double(b.y) - a.y, e1z = double(b.z) - a.z;
-  const double e2x = double(c.x) - a.x, e2y = double(c.y) - a.y, e2z = double(c.z) - a.z;
-  const double nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
-  return nx == 0.0 && ny == 0.0 && nz == 0.0;
+  for (int k = 0; k < 3; ++k) {
+    Vec3 axis{0.0f, 0.0f, 0.0f};
+    axis[static_cast<std::size_t>(k)] = 1.0f;
+    if (exact_edge_function(a, axis, (k + 1) % 3, (k + 2) % 3, k, b, c).sign != 0) return false;
+  }
+  return true;
 }
 
 }  // namespace

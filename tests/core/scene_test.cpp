@@ -92,6 +92,23 @@ TEST(Scene, ZeroAreaTrianglesAreNeverHit) {
   EXPECT_EQ(hits, 0) << "rays aimed at zero-area triangles reported hits";
 }
 
+TEST(Scene, ThinTrianglesFarAcrossKeepTheirArea) {
+  // The fuzz input of corpus thin-triangle-read-as-zero-area: two vertices 7.875 apart on the z axis and a third
+  // at z = 3.8e24. Both edges from the far vertex round to the same vector in double (7.875 is below its ulp there),
+  // so a cross product in double read zero area, and the triangle was dropped; exactly, its area is about
+  // 7.875 * 1.25 / 2 (the far vertex is 1.25 from the z axis), and the ray through the short edge's middle hits it.
+  TriangleMesh m;
+  m.vertices = {{-0x1.a108d8p-57f, -1.25f, 0x1.c8fb98p+81f}, {0, 0, 7.875f}, {0, 0, 0}};
+  m.triangles = {{0, 1, 2}};
+  const Scene s = Scene::from_mesh(m);
+  EXPECT_EQ(s.degenerate_count(), 0u);
+  ASSERT_TRUE(s.is_valid(0));
+  const PreparedRay ray(Ray{{7.5f, 7.5f, 7.5f}, 0.0f, {-7.5f, -7.5f, -3.5625f}, kInf});
+  Hit hit = Hit::begin(ray);
+  ASSERT_TRUE(s.intersect(0, ray, hit));
+  EXPECT_EQ(hit.t, 1.0f) << "(7.5, 7.5, 7.5) + (-7.5, -7.5, -3.5625) = (0, 0, 3.9375), the short edge's middle";
+}
+
 TEST(Scene, OutOfRangeIndexIsAnError) {
   TriangleMesh m = mixed_mesh();
   m.triangles.push_back({0, 1, 11});

@@ -2,18 +2,24 @@
 // fuzzed scene. The input's bytes become up to 12 triangles and 8 rays; each coordinate byte picks a value from a
 // table of hostile floats (0, -0, subnormals, 1e-30, 1, huge, FLT_MAX, Inf, NaN) or a raw float, so NaN, Inf,
 // subnormal, huge and duplicate vertices are common. Answers must match the oracle's as in the conformance suite:
-// same found/occluded, and the same t (a different primitive only at exactly the same t).
+// same found/occluded, and the same t (a different primitive only at exactly the same t). The oracle's own answers
+// (closest hit and occlusion) must in turn be what the exact reference (tests/exact: GMP rationals on the float
+// inputs, no code shared with the kernels) allows, for every ray inside the domain the library guarantees
+// (tests/exact/exact_domain.h); rays outside it are counted, and the counts printed when the run ends.
 #include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "exact_domain.h"
+#include "exact_reference.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
 
@@ -51,9 +57,20 @@ class Bytes {
   std::size_t pos_ = 0;
 };
 
-/// Stops the run on a disagreement, printing what disagreed first so that a CI log names it.
+/// The scene of the input being run, for the report of a disagreement.
+const TriangleMesh* current_mesh = nullptr;
+
+/// Stops the run on a disagreement, printing what disagreed first so that a CI log names it, and the scene.
 [[noreturn]] void disagree(const char* what, const std::string& spec, const Ray* ray, const Hit* got, const Hit* want) {
   std::fprintf(stderr, "fuzz_differential: %s: %s\n", spec.c_str(), what);
+  for (std::size_t i = 0; current_mesh && i < current_mesh->triangles.size(); ++i) {
+    std::fprintf(stderr, "  prim %zu:", i);
+    for (const std::uint32_t v : current_mesh->triangles[i]) {
+      const Vec3& p = current_mesh->vertices[v];
+      std::fprintf(stderr, " (%a, %a, %a)", p.x, p.y, p.z);
+    }
+    std::fprintf(stderr, "\n");
+  }
   if (ray) {
     std::fprintf(stderr, "  ray origin (%a, %a, %a) direction (%a, %a, %a) t (%a, %a]\n", ray->origin.x, ray->origin.y,
                  ray->origin.z, ray->direction.x, ray->direction.y, ray->direction.z, ray->t_min, ray->t_max);
@@ -61,6 +78,37 @@ class Bytes {
   if (got) std::fprintf(stderr, "  got prim %u t %a\n", unsigned(got->prim_id), got->t);
   if (want) std::fprintf(stderr, "  brute force prim %u t %a\n", unsigned(want->prim_id), want->t);
   __builtin_trap();
+}
+
+/// How many rays were checked against the exact reference, and how many were left out, by DomainVerdict.
+struct ExactCounts {
+  std::uint64_t by_verdict[4] = {};
+  ~ExactCounts() {  // printed when the run ends (libFuzzer ends with exit())
+    using exact::DomainVerdict;
+    std::uint64_t total = 0;
+    for (const std::uint64_t n : by_verdict) total += n;
+    std::fprintf(stderr, "fuzz_differential: %llu of %llu rays checked against the exact reference; skipped:",
+                 (unsigned long long)by_verdict[0], (unsigned long long)total);
+    for (const DomainVerdict v : {DomainVerdict::coordinate_out_of_range, DomainVerdict::depth_out_of_range,
+                                  DomainVerdict::shear_underflow}) {
+      std::fprintf(stderr, " %llu %s;", (unsigned long long)by_verdict[int(v)], exact::to_string(v));
+    }
+    std::fprintf(stderr, "\n");
+  }
+};
+ExactCounts exact_counts;
+
+/// Checks brute force's answers for `ray` against the exact reference when the ray is inside the exact domain.
+void check_exact(const exact::ExactReference& reference, const TriangleMesh& mesh, const Ray& ray, const Hit& hit,
+                 bool occluded) {
+  const exact::DomainVerdict verdict = exact::exact_domain(ray, mesh);
+  ++exact_counts.by_verdict[int(verdict)];
+  if (verdict != exact::DomainVerdict::inside) return;
+  const Ray read = exact::ray_as_read(ray);
+  const auto hits = reference.hits_past_t_min(read);
+  std::string fault = exact::ExactReference::closest_hit_mismatch(read, hits, hit);
+  if (fault.empty()) fault = exact::ExactReference::occlusion_mismatch(read, hits, occluded);
+  if (!fault.empty()) disagree(("against the exact reference: " + fault).c_str(), "brute_force", &ray, &hit, nullptr);
 }
 
 const std::vector<std::string>& variants() {
@@ -99,11 +147,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (bounds & 2) ray.t_max = in.value();
     rays.push_back(ray);
   }
+  current_mesh = &mesh;
   const Scene scene = Scene::from_mesh(mesh, "fuzz");
   auto oracle = make_accelerator("brute_force");
   oracle->build(scene);
   std::vector<Hit> expected;
   for (const Ray& r : rays) expected.push_back(oracle->intersect(r));
+  const exact::ExactReference reference(mesh);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    check_exact(reference, mesh, rays[i], expected[i], oracle->occluded(rays[i]));
+  }
   for (const std::string& spec : variants()) {
     std::unique_ptr<Accelerator> accel;
     try {

@@ -194,6 +194,35 @@ TEST(RayTriangle, LongDirectionsKeepTheTOfRescaledTriangles) {
   EXPECT_FALSE(hit_triangle(Ray{origin, -4.0f, direction, 0x1.670bdep-9f}, far));
 }
 
+TEST(RayTriangle, HugeTrianglesWithTinyDepthsKeepTheirT) {
+  // A triangle 2^100 wide across the ray and flat along it, hit at its corner: rescaled by 2^-100, its depths
+  // (1.1 * 2^-100) times its edge functions (2^-40) fell below float's normal range, so t lost most of its bits.
+  const float z = 1.1f;
+  const Triangle flat{Vec3{0, 0, z}, Vec3{0x1p100f, 0, z}, Vec3{0, 0x1p60f, z}};
+  Hit hit;
+  ASSERT_TRUE(hit_triangle(Ray{{0, 0, 0}, 0.0f, {0, 0, 1}, kInf}, flat, &hit));
+  EXPECT_NEAR(hit.t, z, 12 * z * 0x1p-24f) << "a flat triangle's t is within 12 ulps of its depth";
+  // The fuzz input that found it (tests/fuzz/corpus/fuzz_differential/huge-triangle-tiny-depth-t): the ray is aimed
+  // exactly at the first vertex (origin + direction), so t = 1; float said 0.9066.
+  const Triangle wide{Vec3{0x1.314758p+10f, 0x1.1p+2f, 0x1.08p+3f}, Vec3{0x1.4383dap+85f, 0x1.91a0ccp+18f, 0x1.8p-2f},
+                      Vec3{0x1.8966p+43f, 0x1.508128p+122f, -0x1.898faap-29f}};
+  ASSERT_TRUE(hit_triangle(Ray{{0, -0.0f, 0x1p+11f}, 0.0f, {0x1.314758p+10f, 0x1.1p+2f, -0x1.fdfp+10f}, kInf}, wide,
+                           &hit));
+  EXPECT_NEAR(hit.t, 1.0f, 1e-5f);
+  // Its two siblings (corpus huge-triangle-tiny-depth-missed, ...-negative-interval): interior hits that float
+  // dropped, at exact t = 0.00035392391 and -5.09810251e-12 (rational arithmetic on these floats).
+  const Triangle tall{Vec3{0x1.21206cp-36f, -0x1.ed3da8p+83f, -0x1.a83beep-76f}, Vec3{0x1.b8p+2f, -0x1.78e2dp-18f,
+                      -0x1p+2f}, Vec3{-0x1.7p+1f, 0x1.196d78p+88f, -0x1.31acc6p-89f}};
+  ASSERT_TRUE(hit_triangle(Ray{{0x1.b7eedep-6f, 0x1.ep+0f, -0x1.5p+1f}, 0.0f, {0x1.876fbcp+13f, 0x1.6p+0f, 0x1p-1f},
+                               kInf}, tall, &hit));
+  EXPECT_NEAR(hit.t, 0.00035392391f, 0.00035392391f * 1e-5f);
+  const Triangle long_one{Vec3{0x1.8p-2f, 0x1.7p+1f, -0x1.517e78p+58f}, Vec3{0x1.88p+2f, 0x1.fp+2f, 0x1.f8p+2f},
+                          Vec3{0x1.16c2p-133f, -0x1.dff4b4p+111f, 0x1.c6a182p+56f}};
+  ASSERT_TRUE(hit_triangle(Ray{{0x1.68p+2f, 0x1.8p+2f, 0x1.a8p+2f}, -0x1.8d31cap-5f,
+                               {-0x1.6d5c48p+36f, 0x1.8p+0f, -0x1.d8p+1f}, -0x1.f9415p-45f}, long_one, &hit));
+  EXPECT_NEAR(hit.t, -5.09810251e-12f, 5.09810251e-12f * 1e-5f);
+}
+
 /// Vertices of an n x n grid of unit quads on a tilted plane (each vertex rounded on its own, so the grid is only
 /// nearly planar); two triangles per quad, vertices shared.
 struct Grid {

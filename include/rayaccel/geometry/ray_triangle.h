@@ -17,10 +17,13 @@
 // so it stays a few ulps of t for a small triangle far from the origin (pbrt's bound grows with the square of the
 // distance over the triangle's size, and threw such hits away). Near t_min the bound keeps a ray leaving a surface
 // from "hitting" the plane it left at a small positive t that box culling (exactly conservative) rules out.
+// t is a ratio of sums of products of edge functions and vertex depths; for a huge triangle close to the origin
+// (depths tiny against its width) those products underflow float, so such triangles take t from double.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
@@ -77,6 +80,9 @@ struct WatertightBounds {
   /// Relative error of rounding an edge function known to double precision to float, and its absolute floor.
   static constexpr float kExactRelative = 0x1p-22f;
   static constexpr float kExactFloor = 0x1p-148f;
+  /// Float computes t only when the largest depth, its products with |det| and its value in world units are at
+  /// least this (see depth_in_float_range()).
+  static constexpr float kDepthMin = 0x1p-100f;
 };
 
 /// The largest magnitudes of a sheared triangle's coordinates (x, y after the shear, z before it), its depth range
@@ -113,6 +119,15 @@ inline float t_error_bound(const PreparedRay& r, const TriangleErrorBounds& b, f
       (((3.0f * edge_error) * std::fabs(inv_det)) * (b.hi_z - b.lo_z) + float_gamma(12) * b.max_z) *
       WatertightBounds::kSlack;
   return (depth_error * t_unscale) * std::fabs(r.shear_z);
+}
+
+/// True when t and its bound can be computed in float from depths at most `max_z` in magnitude (in the units of a
+/// sheared triangle that t_unscale brings to world units), with edge functions summing to det: the products of edge
+/// functions and depths (up to |det| max_z), the depth they give and its error bound (gamma(12) max_z) then lose at
+/// most 2^-149 to underflow, far below the bound. Else (max_z = 0 included) t is computed in double.
+inline bool depth_in_float_range(float det, float max_z, float t_unscale) {
+  constexpr float k = WatertightBounds::kDepthMin;
+  return max_z >= k && std::fabs(det) * max_z >= k && max_z * t_unscale >= k;
 }
 
 /// An edge function's exact value rounded to float, keeping its sign: a nonzero value too small for float becomes
@@ -193,15 +208,33 @@ inline bool finish_sheared_triangle(const PreparedRay& r, const ShearedTriangle&
     det = (e.u + e.v) + e.w;
   }
   if (det == 0.0f) return false;
-  // The hit's depth along the dominant axis in the units of `s`, brought to the ray's t last: products of three
-  // coordinates stay in float's range (in_safe_range), and the one multiplication by shear_z = 1 / d[kz] comes
-  // after the scale is undone, so a long direction (tiny shear_z) or a short one (huge shear_z) underflows or
-  // overflows only when t itself does.
-  const float scaled_depth = (e.u * s.az + e.v * s.bz) + e.w * s.cz;
   const float inv_det = 1.0f / det;
-  const float t = ((scaled_depth * inv_det) * t_unscale) * r.shear_z;
-  if (!(t > r.t_min && t < hit.t)) return false;
-  if (!(t > r.t_min + t_error_bound(r, b, edge_error, inv_det, t_unscale))) return false;
+  float t;
+  if (depth_in_float_range(det, b.max_z, t_unscale)) {
+    // The hit's depth along the dominant axis in the units of `s`, brought to the ray's t last: products of three
+    // coordinates stay in float's range (in_safe_range), and the one multiplication by shear_z = 1 / d[kz] comes
+    // after the scale is undone, so a long direction (tiny shear_z) or a short one (huge shear_z) underflows or
+    // overflows only when t itself does.
+    const float scaled_depth = (e.u * s.az + e.v * s.bz) + e.w * s.cz;
+    t = ((scaled_depth * inv_det) * t_unscale) * r.shear_z;
+    if (!(t > r.t_min && t < hit.t)) return false;
+    if (!(t > r.t_min + t_error_bound(r, b, edge_error, inv_det, t_unscale))) return false;
+  } else {
+    // Depths tiny against the other coordinates, or in world units: the same t and bound in double, from the world
+    // depths (those of `s` may have underflowed when it was rescaled). Products of floats are exact in double.
+    const auto kz = static_cast<std::size_t>(r.kz);
+    const double origin_z = r.origin[kz];
+    const double az = world.v0[kz] - origin_z, bz = world.v1[kz] - origin_z, cz = world.v2[kz] - origin_z;
+    const double inv_det_d = 1.0 / double(det);
+    const double depth = (double(e.u) * az + double(e.v) * bz) + double(e.w) * cz;
+    t = static_cast<float>(depth * inv_det_d * double(r.shear_z));
+    if (!(t > r.t_min && t < hit.t)) return false;
+    const double depth_range = std::max({az, bz, cz}) - std::min({az, bz, cz});
+    const double max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
+    const double error = ((3.0 * edge_error) * std::fabs(inv_det_d) * depth_range + double(float_gamma(12)) * max_z) *
+                         double(WatertightBounds::kSlack) * std::fabs(double(r.shear_z));
+    if (!(double(t) > double(r.t_min) + error)) return false;
+  }
   hit.t = t;
   hit.prim_id = prim_id;
   hit.u = e.v * inv_det;

@@ -43,7 +43,7 @@ template <class S>
 struct WatertightLanes {
   using F = typename S::F;
   int hits = 0;     ///< lanes whose float path found a hit with t_min + error < t < far bound
-  int on_edge = 0;  ///< undecided lanes the scalar kernel must finish (an edge function 0, or outside the safe range)
+  int on_edge = 0;  ///< lanes the scalar kernel finishes (an edge function near 0, outside the safe range, tiny depth)
   F t, inv_det, ev, ew;  ///< for the lanes in `hits`: u = ev * inv_det, v = ew * inv_det
 
   /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
@@ -93,7 +93,14 @@ struct WatertightLanes {
     const F ill_conditioned =
         S::ge(S::mul(edge_error, S::set1(WatertightBounds::kIllConditioned)), S::and_not(sign_bit, det));
     const F unsafe = S::and_not(safe, S::all_ones());
-    on_edge = S::movemask(S::and_not(decided, S::bit_or(S::bit_or(in_band, ill_conditioned), unsafe)));
+    // Depths too small for t in float (depth_in_float_range() of ray_triangle.h, with t_unscale = 1): the scalar
+    // kernel computes t in double.
+    const F depth_min = S::set1(WatertightBounds::kDepthMin);
+    const F tiny_depth = S::and_not(
+        S::bit_and(S::ge(max_z, depth_min), S::ge(S::mul(S::and_not(sign_bit, det), max_z), depth_min)),
+        S::all_ones());
+    on_edge = S::movemask(
+        S::and_not(decided, S::bit_or(S::bit_or(S::bit_or(in_band, ill_conditioned), unsafe), tiny_depth)));
     // t as finish_sheared_triangle() computes it: the depth first, shear_z last.
     const F scaled_depth = S::add(S::add(S::mul(eu, pz[0]), S::mul(ev, pz[1])), S::mul(ew, pz[2]));
     inv_det = S::div(S::set1(1.0f), det);
