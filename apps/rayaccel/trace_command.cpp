@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "trace_double.h"
+#include "trace_passes.h"
 #include "trace_instanced.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/scene/ray_io.h"
@@ -114,32 +116,17 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   }
   if (!args.save.empty()) accel->save(args.save);
 
-  std::vector<Hit> hits(args.occlusion ? 0 : rays.size());
-  std::vector<std::uint8_t> occluded(args.occlusion ? rays.size() : 0);
-  std::vector<double> trace_ms;
-  for (int i = 0; i < args.repeat; ++i) {
-    const Stopwatch clock;
-    if (args.occlusion) {
-      accel->occluded(rays, occluded);
-    } else if (args.packets) {
-      accel->intersect_packets(rays, hits);
-    } else {
-      accel->intersect(rays, hits);
-    }
-    trace_ms.push_back(clock.milliseconds());
-  }
-  const std::size_t hit_count =
-      args.occlusion ? static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), std::uint8_t{1}))
-                     : static_cast<std::size_t>(std::count_if(hits.begin(), hits.end(), [](const Hit& h) {
-                         return h.found();
-                       }));
-  if (!args.out.empty()) {
-    if (args.occlusion) {
-      write_occlusion(args.out, occluded);
-    } else {
-      write_hits(args.out, hits);
-    }
-  }
+  const TracePasses passes = run_trace_passes<Hit>(
+      rays.size(), args.occlusion, args.repeat, args.out,
+      [&](std::span<Hit> hits) {
+        if (args.packets) {
+          accel->intersect_packets(rays, hits);
+        } else {
+          accel->intersect(rays, hits);
+        }
+      },
+      [&](std::span<std::uint8_t> occluded) { accel->occluded(rays, occluded); },
+      [](const std::string& path, std::span<const Hit> hits) { write_hits(path, hits); });
 
   nlohmann::json summary = trace_summary({
       .accel = accel->spec(),
@@ -147,8 +134,8 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       .primitives = scene.primitive_count(),
       .rays = rays.size(),
       .query = args.occlusion ? "occluded" : args.packets ? "intersect_packets" : "intersect",
-      .trace_ms = trace_ms,
-      .hit_count = hit_count,
+      .trace_ms = passes.trace_ms,
+      .hit_count = passes.hit_count,
       .memory_bytes = accel->memory_bytes(),
       .scene_memory_bytes = scene.memory_bytes(),
       .input_memory_bytes = accel->input_memory_bytes(scene),
@@ -167,25 +154,6 @@ int run_trace(const TraceArgs& args, bool threads_given) {
 }
 
 }  // namespace
-
-nlohmann::json trace_summary(const TraceFigures& f) {
-  const double trace_median = median(f.trace_ms);
-  return {
-      {"accel", f.accel},
-      {"scene", f.scene},
-      {"primitives", f.primitives},
-      {"rays", f.rays},
-      {"query", f.query},
-      {"threads", ThreadLimit::active()},
-      {"trace_ms_median", trace_median},
-      {"trace_ms", f.trace_ms},
-      {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(f.rays) / (trace_median * 1e3) : 0.0},
-      {"hit_count", f.hit_count},
-      {"memory_bytes", f.memory_bytes},
-      {"scene_memory_bytes", f.scene_memory_bytes},
-      {"input_memory_bytes", f.input_memory_bytes},
-  };
-}
 
 Command add_trace_command(CLI::App& root) {
   auto args = std::make_shared<TraceArgs>();

@@ -13,10 +13,12 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "cli_common.h"
+#include "trace_passes.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/ray_d.h"
 #include "rayaccel/double/double_accelerator.h"
@@ -98,30 +100,10 @@ int run_trace_double(const TraceDoubleArgs& args) {
     build_ms.push_back(clock.milliseconds());
   }
 
-  std::vector<HitD> hits(args.occlusion ? 0 : rays.size());
-  std::vector<std::uint8_t> occluded(args.occlusion ? rays.size() : 0);
-  std::vector<double> trace_ms;
-  for (int i = 0; i < args.repeat; ++i) {
-    const Stopwatch clock;
-    if (args.occlusion) {
-      accel->occluded(rays, occluded);
-    } else {
-      accel->intersect(rays, hits);
-    }
-    trace_ms.push_back(clock.milliseconds());
-  }
-  const std::size_t hit_count =
-      args.occlusion ? static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), std::uint8_t{1}))
-                     : static_cast<std::size_t>(std::count_if(hits.begin(), hits.end(), [](const HitD& h) {
-                         return h.found();
-                       }));
-  if (!args.out.empty()) {
-    if (args.occlusion) {
-      write_occlusion(args.out, occluded);
-    } else {
-      write_hits_d(args.out, hits);
-    }
-  }
+  const TracePasses passes = run_trace_passes<HitD>(
+      rays.size(), args.occlusion, args.repeat, args.out, [&](std::span<HitD> hits) { accel->intersect(rays, hits); },
+      [&](std::span<std::uint8_t> occluded) { accel->occluded(rays, occluded); },
+      [](const std::string& path, std::span<const HitD> hits) { write_hits_d(path, hits); });
 
   nlohmann::json summary = trace_summary({
       .accel = accel->spec(),
@@ -129,8 +111,8 @@ int run_trace_double(const TraceDoubleArgs& args) {
       .primitives = scene.triangle_count(),
       .rays = rays.size(),
       .query = args.occlusion ? "occluded" : "intersect",
-      .trace_ms = trace_ms,
-      .hit_count = hit_count,
+      .trace_ms = passes.trace_ms,
+      .hit_count = passes.hit_count,
       .memory_bytes = accel->memory_bytes(),
       .scene_memory_bytes = scene.memory_bytes(),
       .input_memory_bytes = scene.memory_bytes(),

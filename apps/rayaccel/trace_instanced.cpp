@@ -11,9 +11,11 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <vector>
 
 #include "cli_common.h"
+#include "trace_passes.h"
 #include "rayaccel/instance/import_instanced.h"
 #include "rayaccel/instance/instance_hits_file.h"
 #include "rayaccel/instance/instanced_accelerator.h"
@@ -61,51 +63,29 @@ int run_trace_instanced(const InstancedTraceArgs& args, bool threads_given) {
   accel.build(scene);
   const double build_ms = build_clock.milliseconds();
 
-  std::vector<InstanceHit> hits(args.occlusion ? 0 : rays.size());
-  std::vector<std::uint8_t> occluded(args.occlusion ? rays.size() : 0);
-  std::vector<double> trace_ms;
-  for (int i = 0; i < args.repeat; ++i) {
-    const Stopwatch clock;
-    if (args.occlusion) {
-      accel.occluded(rays, occluded);
-    } else {
-      accel.intersect(rays, hits);
-    }
-    trace_ms.push_back(clock.milliseconds());
-  }
-  const std::size_t hit_count =
-      args.occlusion ? static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), std::uint8_t{1}))
-                     : static_cast<std::size_t>(std::count_if(hits.begin(), hits.end(), [](const InstanceHit& h) {
-                         return h.found();
-                       }));
-  if (!args.out.empty()) {
-    if (args.occlusion) {
-      write_occlusion(args.out, occluded);
-    } else {
-      write_instance_hits(args.out, hits);
-    }
-  }
+  const TracePasses passes = run_trace_passes<InstanceHit>(
+      rays.size(), args.occlusion, args.repeat, args.out,
+      [&](std::span<InstanceHit> hits) { accel.intersect(rays, hits); },
+      [&](std::span<std::uint8_t> occluded) { accel.occluded(rays, occluded); },
+      [](const std::string& path, std::span<const InstanceHit> hits) { write_instance_hits(path, hits); });
 
-  const double trace_median = median(trace_ms);
-  nlohmann::json summary = {
-      {"accel", "instanced"},
-      {"bottom", accel.bottom_spec()},
-      {"top", accel.top_spec()},
-      {"scene", args.scene},
-      {"geometries", scene.geometry_count()},
-      {"instances", scene.instance_count()},
-      {"primitives", scene.flattened_primitive_count()},
-      {"rays", rays.size()},
-      {"query", args.occlusion ? "occluded" : "intersect"},
-      {"threads", ThreadLimit::active()},
-      {"build_ms", build_ms},
-      {"trace_ms_median", trace_median},
-      {"trace_ms", trace_ms},
-      {"mrays_s_median", trace_median > 0.0 ? static_cast<double>(rays.size()) / (trace_median * 1e3) : 0.0},
-      {"hit_count", hit_count},
-      {"memory_bytes", accel.memory_bytes()},
-      {"scene_memory_bytes", scene.memory_bytes()},
-  };
+  nlohmann::json summary = trace_summary({
+      .accel = "instanced",
+      .scene = args.scene,
+      .primitives = scene.flattened_primitive_count(),
+      .rays = rays.size(),
+      .query = args.occlusion ? "occluded" : "intersect",
+      .trace_ms = passes.trace_ms,
+      .hit_count = passes.hit_count,
+      .memory_bytes = accel.memory_bytes(),
+      .scene_memory_bytes = scene.memory_bytes(),
+      .input_memory_bytes = scene.memory_bytes(),  // the bottom levels read their geometries' arrays
+  });
+  summary["bottom"] = accel.bottom_spec();
+  summary["top"] = accel.top_spec();
+  summary["geometries"] = scene.geometry_count();
+  summary["instances"] = scene.instance_count();
+  summary["build_ms"] = build_ms;
   if (!args.out.empty()) summary["out"] = args.out;
   fmt::print("{}\n", summary.dump());
   return 0;
