@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "rayaccel/core/error.h"
-#include "rayaccel/double/double_scene.h"
+#include "rayaccel/core/mesh_d.h"
 
 namespace rayaccel {
 

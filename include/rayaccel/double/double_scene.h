@@ -10,15 +10,10 @@
 
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/dvec3.h"
+#include "rayaccel/core/mesh_d.h"
 #include "rayaccel/core/primitives.h"
 
 namespace rayaccel {
-
-/// Indexed triangle list in double; primitive id = index into `triangles`.
-struct TriangleMeshD {
-  std::vector<DVec3> vertices;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-};
 
 class DoubleScene {
  public:

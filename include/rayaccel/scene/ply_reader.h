@@ -12,7 +12,7 @@
 
 namespace rayaccel {
 
-struct TriangleMeshD;  // double/double_scene.h
+struct TriangleMeshD;  // core/mesh_d.h
 
 /// True when `bytes` start like a PLY file ("ply" and a line end).
 bool looks_like_ply(std::span<const std::byte> bytes);
