@@ -121,8 +121,11 @@ struct PacketLanes {
     triangle.shear_x = S::div(direction[axes[0]], dz);
     triangle.shear_y = S::div(direction[axes[1]], dz);
     triangle.shear_z = S::div(one, dz);
-    triangle.shear_error_x = S::mul(S::set1(float_gamma(5)), S::and_not(sign_bit, triangle.shear_x));
-    triangle.shear_error_y = S::mul(S::set1(float_gamma(5)), S::and_not(sign_bit, triangle.shear_y));
+    // shear_error() of ray_triangle.h, lane by lane (the same operations, so the same bits).
+    const F shear_absolute = S::set1(kShearAbsoluteError);
+    const F gamma5 = S::set1(float_gamma(5));
+    triangle.shear_error_x = S::add(S::mul(gamma5, S::and_not(sign_bit, triangle.shear_x)), shear_absolute);
+    triangle.shear_error_y = S::add(S::mul(gamma5, S::and_not(sign_bit, triangle.shear_y)), shear_absolute);
     triangle.t_min = t_min;
     fast = true;
   }

@@ -28,7 +28,6 @@ const char* to_string(DomainVerdict verdict) {
     case DomainVerdict::inside: return "inside";
     case DomainVerdict::coordinate_out_of_range: return "coordinate out of range";
     case DomainVerdict::depth_out_of_range: return "depth out of range";
-    case DomainVerdict::shear_underflow: return "shear underflow";
   }
   return "?";
 }
@@ -48,11 +47,6 @@ DomainVerdict exact_domain(const Ray& ray, const TriangleMesh& mesh) {
   const std::array<double, 3> d{std::fabs(double(read.direction.x)), std::fabs(double(read.direction.y)),
                                 std::fabs(double(read.direction.z))};
   const double d_max = std::fmax(d[0], std::fmax(d[1], d[2]));
-  for (const double component : d) {
-    if (component != 0.0 && component / d_max < double(std::numeric_limits<float>::min())) {
-      return DomainVerdict::shear_underflow;
-    }
-  }
   for (const auto& triangle : mesh.triangles) {
     const Vec3 v[3] = {mesh.vertices[triangle[0]], mesh.vertices[triangle[1]], mesh.vertices[triangle[2]]};
     if (!finite(v[0]) || !finite(v[1]) || !finite(v[2])) continue;  // never hit

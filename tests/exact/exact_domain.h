@@ -17,10 +17,6 @@ enum class DomainVerdict {
   inside,
   coordinate_out_of_range,  ///< some vertex minus the origin exceeds 2^126 (the sheared coordinates may overflow)
   depth_out_of_range,       ///< some vertex depth in units of t, if not 0, lies outside [2^-100, 2^126]
-  /// A nonzero direction component is below FLT_MIN times the dominant one, so the kernel's shear d_x / d_z
-  /// underflows. Not a limit the README states: the kernel's error bound assumes a relatively rounded shear and
-  /// misses hits of grazing rays here (fuzz corpus shear-underflow-grazing-ray), a known gap left out until fixed.
-  shear_underflow,
 };
 const char* to_string(DomainVerdict verdict);
 
@@ -32,8 +28,8 @@ Ray ray_as_read(const Ray& ray);
 /// ray_as_read(ray). Checks every finite triangle: A = vertex - origin (in double) must satisfy |A_k| <= 2^126 on
 /// every axis, so that the kernel's float A and its sheared coordinates A_x - (d_x / d_z) A_z stay finite; and each
 /// vertex depth along a dominant axis of the direction, A_z / d_z in units of t, must be 0 or in [2^-100, 2^126],
-/// so that t and its error bound neither overflow nor underflow (all dominant axes when components tie); and no
-/// shear may underflow (see shear_underflow).
+/// so that t and its error bound neither overflow nor underflow (all dominant axes when components tie). A shear
+/// d_x / d_z that underflows float is inside: the kernel bounds its absolute error (kShearAbsoluteError).
 DomainVerdict exact_domain(const Ray& ray, const TriangleMesh& mesh);
 
 }  // namespace rayaccel::exact

@@ -82,15 +82,14 @@ const TriangleMesh* current_mesh = nullptr;
 
 /// How many rays were checked against the exact reference, and how many were left out, by DomainVerdict.
 struct ExactCounts {
-  std::uint64_t by_verdict[4] = {};
+  std::uint64_t by_verdict[3] = {};
   ~ExactCounts() {  // printed when the run ends (libFuzzer ends with exit())
     using exact::DomainVerdict;
     std::uint64_t total = 0;
     for (const std::uint64_t n : by_verdict) total += n;
     std::fprintf(stderr, "fuzz_differential: %llu of %llu rays checked against the exact reference; skipped:",
                  (unsigned long long)by_verdict[0], (unsigned long long)total);
-    for (const DomainVerdict v : {DomainVerdict::coordinate_out_of_range, DomainVerdict::depth_out_of_range,
-                                  DomainVerdict::shear_underflow}) {
+    for (const DomainVerdict v : {DomainVerdict::coordinate_out_of_range, DomainVerdict::depth_out_of_range}) {
       std::fprintf(stderr, " %llu %s;", (unsigned long long)by_verdict[int(v)], exact::to_string(v));
     }
     std::fprintf(stderr, "\n");

@@ -64,8 +64,13 @@ inline bool in_safe_range(const ShearedTriangle& s) {
   return m <= kShearSafeMax && m >= kShearSafeMin;
 }
 
-/// The factor of max|z| in the error bound of a sheared coordinate: gamma(5) |shear| (see TriangleErrorBounds).
-inline float shear_error(float shear) { return float_gamma(5) * std::fabs(shear); }
+/// The absolute part of a shear's rounding error: d_x / d_z below FLT_MIN rounds to a subnormal (or zero) whose
+/// error is not relative to it (at most 2^-150), so a ray whose direction is all but parallel to a plane of axes
+/// still bounds its sheared coordinates (fuzz corpus shear-underflow-grazing-ray: a shear of 6e-50 read as 0).
+inline constexpr float kShearAbsoluteError = 0x1p-149f;
+/// The factor of max|z| in the error bound of a sheared coordinate: gamma(5) |shear| + kShearAbsoluteError (see
+/// TriangleErrorBounds).
+inline float shear_error(float shear) { return float_gamma(5) * std::fabs(shear) + kShearAbsoluteError; }
 
 /// Constants of the error bounds (float_gamma(n): the relative bound of n roundings).
 struct WatertightBounds {
@@ -100,7 +105,7 @@ struct TriangleErrorBounds {
     lo_z = fmin_inline(s.az, fmin_inline(s.bz, s.cz));
     hi_z = fmax_inline(s.az, fmax_inline(s.bz, s.cz));
     // A sheared coordinate x = a_x - s_x a_z against the exact X of the float ray (the shear s_x = d_x / d_z rounded,
-    // |s_x| <= 1): |x - X| <= gamma(3) max|x| + gamma(5) |s_x| max|z|. Then for an edge function,
+    // |s_x| <= 1): |x - X| <= gamma(3) max|x| + shear_error(s_x) max|z|. Then for an edge function,
     // |e - E| <= 2 gamma(2) max|x| max|y| + 2 (dx max|y| + dy max|x| + dx dy).
     const float dx = (float_gamma(3) * max_x + shear_error(r.shear_x) * max_z) + underflow;
     const float dy = (float_gamma(3) * max_y + shear_error(r.shear_y) * max_z) + underflow;
