@@ -50,7 +50,7 @@ OptionTable<Fake> fake_table() {
   return t;
 }
 
-AcceleratorInfo fake_info() { return {"fake", "test entry", fake_table().specs(), {}, {}, false}; }
+AcceleratorInfo fake_info() { return {"fake", "test entry", fake_table().specs(), {}, {}, false, {}}; }
 
 Fake parse(const std::map<std::string, std::string>& given) {
   return fake_table().parse(resolve_options(fake_info(), given));

@@ -21,6 +21,7 @@
 #include "rayaccel/instance/instanced_accelerator.h"
 #include "rayaccel/scene/builtin_scenes.h"
 #include "instanced_comparison.h"
+#include "../conformance/oracle.h"
 
 namespace rayaccel {
 namespace {
@@ -161,13 +162,7 @@ TEST_P(ConformanceInstanced, BatchesAnswerAsSingleRays) {
 
 INSTANTIATE_TEST_SUITE_P(Conformance, ConformanceInstanced,
                          ::testing::Values("bvh_wide", "bvh", "kdtree", "bvh:bv=obb"),
-                         [](const auto& param_info) {
-                           std::string name = param_info.param;
-                           for (char& c : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           }
-                           return name;
-                         });
+                         conformance::spec_test_name);
 
 // Any registered structure serves as the bottom level: every name of `rayaccel list --names`, fewer rays each.
 TEST(ConformanceInstancedAll, EveryVariantAsBottomLevel) {

@@ -14,6 +14,7 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/instance/instanced_accelerator.h"
 #include "instanced_comparison.h"
+#include "../conformance/oracle.h"
 
 namespace rayaccel {
 namespace {
@@ -86,13 +87,7 @@ TEST_P(ConformanceInstancedTop, MovedInstancesAfterRebuildTopAndUpdateTop) {
 
 INSTANTIATE_TEST_SUITE_P(Conformance, ConformanceInstancedTop,
                          ::testing::Values("bvh_top", "bvh_wide", "bvh", "kdtree", "grid"),
-                         [](const auto& param_info) {
-                           std::string name = param_info.param;
-                           for (char& c : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           }
-                           return name;
-                         });
+                         conformance::spec_test_name);
 
 // Every variant of `rayaccel list --names` takes user primitives, so each serves as the top level (fewer rays each).
 TEST(ConformanceInstancedTopAll, EveryVariantAsTopLevel) {
