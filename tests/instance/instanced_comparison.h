@@ -91,8 +91,10 @@ class Comparison {
       return;
     }
     if (!ref.found()) return;
-    const std::uint32_t ref_instance = accel_instance(flat_.instance_of(ref.prim_id));
-    const auto ref_prim = static_cast<std::uint32_t>(ref.prim_id - flat_.first_prim[ref_instance]);
+    // The reference's own instance numbers its primitives; the structure's number for it may differ (a subset).
+    const std::uint32_t reference_instance = flat_.instance_of(ref.prim_id);
+    const std::uint32_t ref_instance = accel_instance(reference_instance);
+    const auto ref_prim = static_cast<std::uint32_t>(ref.prim_id - flat_.first_prim.at(reference_instance));
     const bool same = ref_instance == got.instance && ref_prim == got.prim_id;
     const bool close = std::fabs(double(got.t) - double(ref.t)) <= allowed_t_error(ray, ref);
     if (same) {
