@@ -5,8 +5,9 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
+#include <limits>
 
-#include "rayaccel/bvh/build_tree.h"
 
 namespace rayaccel {
 
@@ -23,14 +24,29 @@ std::uint64_t spread_bits(std::uint64_t v) {
   return v;
 }
 
+constexpr double kMortonCells = 2097151.0;  // 2^21 - 1 cells along each axis
+
+/// A centroid coordinate in double: (lo + hi) / 2 in float overflows to infinity for a box near FLT_MAX.
+double centroid_along(const PrimRef& r, int axis) {
+  return 0.5 * (double(r.bounds.lo[axis]) + double(r.bounds.hi[axis]));
+}
+
 }  // namespace
 
 std::vector<std::uint64_t> sort_by_morton_code(PrimRefs& refs) {
-  const AABB centroids = centroid_bounds_of(refs);
-  const Vec3 extent = centroids.extent();
-  constexpr float kCells = 2097151.0f;  // 2^21 - 1
-  Vec3 scale;
-  for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? kCells / extent[a] : 0.0f;
+  // Quantised in double, like the SBVH's bins: a float extent of boxes from -FLT_MAX to FLT_MAX is infinite, and
+  // (c - lo) * scale then gave NaN, whose cast to an integer is undefined (the fuzz tier found it).
+  std::array<double, 3> lo{}, scale{};
+  for (int a = 0; a < 3; ++a) {
+    double min = std::numeric_limits<double>::infinity(), max = -min;
+    for (const PrimRef& r : refs) {
+      const double c = centroid_along(r, a);
+      min = std::min(min, c);
+      max = std::max(max, c);
+    }
+    lo[a] = min;
+    scale[a] = max > min ? kMortonCells / (max - min) : 0.0;
+  }
   struct Keyed {
     std::uint64_t code;
     std::uint32_t prim_id;
@@ -38,11 +54,11 @@ std::vector<std::uint64_t> sort_by_morton_code(PrimRefs& refs) {
   };
   std::vector<Keyed> keys(refs.size());
   tbb::parallel_for(std::size_t{0}, refs.size(), [&](std::size_t i) {
-    const Vec3 c = refs[i].centroid();
     std::uint64_t code = 0;
     for (int a = 0; a < 3; ++a) {
-      const float q = std::clamp((c[a] - centroids.lo[a]) * scale[a], 0.0f, kCells);
-      code |= spread_bits(static_cast<std::uint64_t>(q)) << (2 - a);
+      const double q = (centroid_along(refs[i], a) - lo[a]) * scale[a];
+      const double cell = q >= kMortonCells ? kMortonCells : q > 0.0 ? q : 0.0;  // a NaN lands in cell 0
+      code |= spread_bits(static_cast<std::uint64_t>(cell)) << (2 - a);
     }
     keys[i] = {code, refs[i].prim_id, static_cast<std::uint32_t>(i)};
   });

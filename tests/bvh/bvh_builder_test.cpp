@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 
 #include "bvh_test_scenes.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/bvh/binned_sah_builder.h"
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/bvh/lbvh_builder.h"
+#include "rayaccel/bvh/morton.h"
 #include "rayaccel/bvh/ploc_builder.h"
 #include "rayaccel/bvh/sweep_sah_builder.h"
 
@@ -79,6 +81,19 @@ TEST(BvhBuilders, EmptyInput) {
   EXPECT_TRUE(build_sweep_sah({}, {}).nodes.empty());
   EXPECT_TRUE(build_lbvh({}, {}).nodes.empty());
   EXPECT_TRUE(build_ploc({}, {}).nodes.empty());
+}
+
+/// Boxes out to FLT_MAX, ids in the reverse of their order along x: a float centroid of the last box overflows to
+/// infinity, and the Morton quantisation made every code 0 (the cast of a NaN cell, found by the fuzz tier under
+/// UBSan), so the sort fell back to the ids.
+TEST(BvhBuilders, MortonCodesOrderBoxesOutToFltMax) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  const float xs[][2] = {{-kMax, -kMax}, {-3e38f, -1e38f}, {0.0f, 1.0f}, {3e38f, kMax}};
+  PrimRefs refs;
+  for (std::uint32_t i = 0; i < 4; ++i) refs.push_back({AABB({xs[i][0], 0, 0}, {xs[i][1], 1, 1}), 3 - i});
+  sort_by_morton_code(refs);
+  for (std::uint32_t i = 0; i < 4; ++i) EXPECT_EQ(refs[i].prim_id, 3 - i) << "position " << i;
+  EXPECT_LE(check_tree(build_lbvh(refs, {1, 64}), 4, 1), kBvhMaxDepth);
 }
 
 /// Long thin diagonal triangles: object splits overlap badly, spatial splits pay off.
