@@ -1,5 +1,5 @@
-// Exact edge functions, adaptively (Shewchuk 1997): first in double with a static error bound, which decides all but
-// the rays within about 1e-15 of an edge; then by expansion arithmetic: every product of the float inputs is split into
+// Exact edge functions, adaptively (Shewchuk 1997): first in double with a static error bound, which gives all but
+// the rays within about 1e-9 of an edge their sign and a value precise enough for t; then by expansion arithmetic: every product of the float inputs is split into
 // doubles without rounding (Dekker's two-product over Veltkamp's split, Knuth's two-sum), and the terms are summed
 // into a nonoverlapping expansion whose largest component has the sign of the exact sum. Float inputs keep every
 // intermediate far from double's overflow and underflow thresholds: a term is a product of at most three floats'
@@ -10,6 +10,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <type_traits>
 
 #include "rayaccel/core/dvec3.h"
 
@@ -127,6 +128,14 @@ DoubleEdge double_edge_times_dz(const V& origin, const V& direction, const int a
   return {g, 10.0 * 0x1p-53 * permanent};
 }
 
+/// How precise the double stage's value must be for its answer to stand: the caller computes t (and its bound)
+/// from these values, so a sign that the static bound decides is not enough. A value whose error was nearly its own
+/// size made t's bound near the whole depth range of the triangle, and a hit at t = 0.003 was dropped against
+/// t_min = -0.5 (fuzz corpus exact-edge-value-imprecise). Float callers round the value to float, so 2^-30 is ample;
+/// double callers keep 2^-45 of it (their t bounds count that). Beyond these, the expansion's estimate (2^-50).
+template <class V>
+constexpr double kDoubleStageRelativeError = std::is_same_v<V, Vec3> ? 0x1p-30 : 0x1p-45;
+
 /// Both overloads: V is Vec3 or DVec3.
 template <class V>
 ExactEdge exact_edge(const V& origin, const V& direction, int kx, int ky, int kz, const V& p, const V& q) {
@@ -134,7 +143,7 @@ ExactEdge exact_edge(const V& origin, const V& direction, int kx, int ky, int kz
   const double dz = direction[kz];
   const int dz_sign = dz > 0.0 ? 1 : -1;
   const DoubleEdge fast = double_edge_times_dz(origin, direction, axes, p, q);
-  if (std::fabs(fast.g) > fast.error) {
+  if (std::fabs(fast.g) * kDoubleStageRelativeError<V> > fast.error) {
     return {fast.g > 0.0 ? dz_sign : -dz_sign, fast.g / dz, fast.error / std::fabs(dz)};
   }
   TwoDoubles pa[3], qa[3];

@@ -223,6 +223,21 @@ TEST(RayTriangle, HugeTrianglesWithTinyDepthsKeepTheirT) {
   EXPECT_NEAR(hit.t, -5.09810251e-12f, 5.09810251e-12f * 1e-5f);
 }
 
+TEST(RayTriangle, EdgesNearTheRayKeepTValuesPreciseEnoughForTMin) {
+  // Fuzz corpus exact-edge-value-imprecise: two edge functions of this triangle 3e26 long are within float's error
+  // of zero, so they were recomputed in double, whose static bound then decided their signs but left their values
+  // wrong by up to 100 times their size; t's bound grew to 0.995 and the hit at exact t = 0.00285160179 (rational
+  // arithmetic on these floats; u = 0.0014258009, v = 0.997148398) was dropped against t_min = -0.5.
+  const Triangle long_one{Vec3{-0x1.7p+1f, 0x1.189486p+88f, 0x1.1cp+3f}, Vec3{0x1.08p+3f, -0x1.0733ap+42f, 0x1.3e7cp+55f},
+                          Vec3{0x1.d8p+2f, 0x1.ep+0f, -0x1.5p+1f}};
+  Hit hit;
+  ASSERT_TRUE(hit_triangle(Ray{{0x1.d8p+2f, 0x1.d8p+2f, 0x1.d8p+2f}, -0.5f,
+                               {-0x1.2cp+2f, 0x1.189486p+87f, 0x1.3e7cp+54f}, 0x1.d8p+2f}, long_one, &hit));
+  EXPECT_NEAR(hit.t, 0.00285160179f, 0.00285160179f * 1e-5f);
+  EXPECT_NEAR(hit.u, 0.0014258009f, 1e-6f);
+  EXPECT_NEAR(hit.v, 0.997148398f, 1e-6f);
+}
+
 /// Vertices of an n x n grid of unit quads on a tilted plane (each vertex rounded on its own, so the grid is only
 /// nearly planar); two triangles per quad, vertices shared.
 struct Grid {

@@ -19,7 +19,7 @@ struct DVec3;  // core/dvec3.h: declared only, so the float code that includes t
 struct ExactEdge {
   int sign = 0;        ///< -1, 0 or +1: the sign of the exact value
   double value = 0.0;  ///< of that sign (0 exactly when sign is 0)
-  double error = 0.0;  ///< bound on |value - exact value|, below |value| (at most 2^-50 |value| when computed exactly)
+  double error = 0.0;  ///< bound on |value - exact value|: at most 2^-30 |value| (2^-45 for double inputs)
 };
 
 /// The edge function E of vertices p, q (E = X_p Y_q - Y_p X_q) for the ray from `origin` along `direction`, in the
