@@ -109,8 +109,22 @@ CapsuleVolume CapsuleVolume::fit(std::span<const Vec3> points) {
     const Candidate c = fit_on_axis(points, u);
     if (c.area < best.area) best = c;
   }
-  v.a = bv_detail::to_float(best.a);
-  v.b = bv_detail::to_float(best.b);
+  // The ends go to float inside the points' box: an end of the double segment can lie past FLT_MAX when the points
+  // reach it, and a float end of infinity made the radius NaN (fuzz corpus capsule-at-flt-max). Any ends enclose
+  // the points, as the radius is measured from the stored ones below; a NaN end (a degenerate axis) takes the box's
+  // low corner.
+  AABB box;
+  for (const Vec3& p : points) box.extend(p);
+  const auto end_in_box = [&](const Vec3d& e) {
+    Vec3 f;
+    for (int k = 0; k < 3; ++k) {
+      const double x = e[k];
+      f[k] = x >= double(box.lo[k]) ? (x <= double(box.hi[k]) ? float(x) : box.hi[k]) : box.lo[k];
+    }
+    return f;
+  };
+  v.a = end_in_box(best.a);
+  v.b = end_in_box(best.b);
   // The radius of the stored float segment, measured exactly enough (double) and rounded up.
   double radius = 0.0;
   const Vec3d a(v.a), b(v.b);

@@ -50,6 +50,25 @@ TYPED_TEST(BvVolume, FitContainsEveryPoint) {
   }
 }
 
+/// Points out to FLT_MAX: the capsule's double segment ran past it and its float end became infinity, so it held
+/// none of them (fuzz corpus capsule-at-flt-max, the first cloud).
+TYPED_TEST(BvVolume, FitContainsPointsOutToFltMax) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  const std::vector<std::vector<Vec3>> clouds = {
+      {{kMax, kMax, kMax}, {0x1.acc72ep-78f, kMax, kMax}, {-0x1.7p+1f, 0x1.196d64p+88f, -0x1.6p+0f}},
+      {{-kMax, -kMax, -kMax}, {kMax, kMax, kMax}},
+      {{-kMax, 0, 0}, {kMax, 1, 0}, {0, -kMax, kMax}, {1, 2, 3}},
+  };
+  for (std::size_t i = 0; i < clouds.size(); ++i) {
+    const TypeParam v = TypeParam::fit(clouds[i]);
+    const AABB b = v.bounds();
+    for (const Vec3& p : clouds[i]) {
+      EXPECT_TRUE(v.contains(p)) << "cloud " << i;
+      EXPECT_TRUE(b.contains(p)) << "cloud " << i;
+    }
+  }
+}
+
 TYPED_TEST(BvVolume, EmptyVolumeIsNeverHit) {
   const TypeParam v = TypeParam::fit({});
   EXPECT_EQ(v.surface_area(), 0.0f);
