@@ -3,8 +3,12 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <deque>
+#include <mutex>
+#include <string>
 
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/registry.h"
@@ -44,12 +48,74 @@ std::unique_ptr<Accelerator> build_checked(const std::string& spec, const Scene&
   return accel;
 }
 
+namespace {
+
+/// Appends the bytes of `values` to `key`.
+template <class T>
+void append_bytes(std::string& key, std::span<const T> values) {
+  key.append(reinterpret_cast<const char*>(values.data()), values.size_bytes());
+}
+
+/// Everything brute force's answers depend on, as bytes: the primitives and the rays. Empty for user primitives,
+/// whose answers come from code, not data.
+std::string reference_key(const Scene& scene, std::span<const Ray> rays) {
+  std::string key;
+  const PrimitiveKind kind = scene.kind();
+  if (kind == PrimitiveKind::user) return key;
+  append_bytes(key, std::span<const PrimitiveKind>(&kind, 1));
+  if (kind == PrimitiveKind::spheres) {
+    append_bytes(key, std::span<const Sphere>(scene.spheres()));
+  } else {
+    for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
+      const std::array<Vec3, 3> t = scene.triangle(id);
+      append_bytes(key, std::span<const Vec3>(t));
+    }
+  }
+  append_bytes(key, rays);
+  return key;
+}
+
+/// The answers of the last few (scene, rays) pairs. A conformance process runs one test for every variant in turn
+/// (tests/conformance_variants.cmake), so each variant asks for the same references; brute force over them was 80%
+/// of the tier's time. Keyed by the whole input, compared byte for byte: a hit is the same computation.
+class ReferenceMemo {
+ public:
+  std::vector<Hit> hits(const Scene& scene, std::span<const Ray> rays) {
+    std::string key = reference_key(scene, rays);
+    if (key.empty()) return compute(scene, rays);
+    const std::lock_guard lock(mutex_);
+    for (const Entry& e : entries_) {
+      if (e.key == key) return e.hits;
+    }
+    std::vector<Hit> answers = compute(scene, rays);
+    if (entries_.size() == kEntries) entries_.pop_front();
+    entries_.push_back({std::move(key), answers});
+    return answers;
+  }
+
+ private:
+  static std::vector<Hit> compute(const Scene& scene, std::span<const Ray> rays) {
+    BruteForce oracle;
+    oracle.build(scene);
+    std::vector<Hit> hits(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = oracle.intersect(rays[i]);
+    return hits;
+  }
+
+  struct Entry {
+    std::string key;
+    std::vector<Hit> hits;
+  };
+  static constexpr std::size_t kEntries = 16;
+  std::mutex mutex_;
+  std::deque<Entry> entries_;
+};
+
+}  // namespace
+
 std::vector<Hit> brute_force_hits(const Scene& scene, std::span<const Ray> rays) {
-  BruteForce oracle;
-  oracle.build(scene);
-  std::vector<Hit> hits(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = oracle.intersect(rays[i]);
-  return hits;
+  static ReferenceMemo memo;
+  return memo.hits(scene, rays);
 }
 
 std::string describe(const Ray& r) {

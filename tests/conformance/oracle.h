@@ -37,7 +37,8 @@ class ConformanceTest : public ::testing::TestWithParam<std::string> {};
 /// make_accelerator(spec), then build(scene); adds a test failure for each problem validate() reports.
 std::unique_ptr<Accelerator> build_checked(const std::string& spec, const Scene& scene);
 
-/// Closest hits of brute force, the reference answers.
+/// Closest hits of brute force, the reference answers (the last few are remembered, keyed by the whole scene and
+/// rays: every variant of a test asks for the same ones).
 std::vector<Hit> brute_force_hits(const Scene& scene, std::span<const Ray> rays);
 
 /// Empty when `actual` is a correct closest hit given the oracle's `expected`, else a description of the fault:
