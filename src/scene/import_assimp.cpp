@@ -15,13 +15,12 @@
 #include <vector>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/quoted_path.h"
 #include "rayaccel/scene/ply_reader.h"
 
 namespace rayaccel {
 
 namespace {
-
-std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 
 /// Fails with a clear message when the file is missing, not a regular file, empty, or cannot be opened; returns
 /// its first bytes (at most 16).

@@ -16,6 +16,7 @@
 #include <type_traits>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/quoted_path.h"
 #include "rayaccel/core/ray_d.h"
 #include "rayaccel/core/output_file.h"
 
@@ -38,8 +39,6 @@ struct HitRecordD {
   double v;
 };
 static_assert(sizeof(HitRecordD) == 32, "a .hits64 record is 32 bytes");
-
-std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 
 /// Reverses the bytes of every `Word`-byte word on big-endian hosts (a no-op on little-endian ones).
 template <std::size_t Word>
