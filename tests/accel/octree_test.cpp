@@ -16,11 +16,7 @@ namespace rayaccel {
 namespace {
 
 using testing::expect_matches_brute_force;
-
-void expect_valid(const Accelerator& a) {
-  const auto problems = a.validate();
-  EXPECT_TRUE(problems.empty()) << problems.size() << " problems, first: " << (problems.empty() ? "" : problems.front());
-}
+using testing::expect_valid;
 
 TEST(Octree, MatchesBruteForceOnSoupForEveryVariant) {
   const Scene scene = Scene::from_mesh(testing::random_soup(2000, 43));

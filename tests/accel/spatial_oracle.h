@@ -1,5 +1,5 @@
-// Test scenes and the brute-force comparison shared by the grid, two-level grid and octree tests: random soups, a
-// closed sphere, axis-aligned quad stacks, rays with +-0 components and rays along given planes.
+// Test scenes, the brute-force comparison and the validate() check shared by the grid, two-level grid and octree
+// tests: random soups, a closed sphere, axis-aligned quad stacks, rays with +-0 components and rays along planes.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -15,6 +15,12 @@
 #include "rayaccel/scene/scene.h"
 
 namespace rayaccel::testing {
+
+/// Adds a test failure when validate() reports a problem, naming the count and the first.
+inline void expect_valid(const Accelerator& a) {
+  const auto problems = a.validate();
+  EXPECT_TRUE(problems.empty()) << problems.size() << " problems, first: " << (problems.empty() ? "" : problems.front());
+}
 
 inline TriangleMesh random_soup(std::uint32_t count, std::uint32_t seed, float size = 0.1f) {
   std::mt19937 rng(seed);

@@ -12,11 +12,7 @@ namespace rayaccel {
 namespace {
 
 using testing::expect_matches_brute_force;
-
-void expect_valid(const Accelerator& a) {
-  const auto problems = a.validate();
-  EXPECT_TRUE(problems.empty()) << (problems.empty() ? "" : problems.front());
-}
+using testing::expect_valid;
 
 double statistic(const Accelerator& a, const std::string& name) {
   for (const auto& s : a.build_statistics()) {

@@ -12,11 +12,7 @@ namespace rayaccel {
 namespace {
 
 using testing::expect_matches_brute_force;
-
-void expect_valid(const Accelerator& a) {
-  const auto problems = a.validate();
-  EXPECT_TRUE(problems.empty()) << (problems.empty() ? "" : problems.front());
-}
+using testing::expect_valid;
 
 TEST(UniformGrid, ResolutionFollowsExtentAndDensity) {
   const auto cube = grid_resolution({1, 1, 1}, 1000, 3.0, 1024, 1u << 24);

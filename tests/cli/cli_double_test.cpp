@@ -21,6 +21,7 @@ namespace rayaccel {
 namespace {
 
 using testing::fresh_directory;
+using testing::last_nonempty_line;
 using testing::run_cli;
 
 /// Writes a binary little-endian PLY of `mesh` with vertex coordinates of the given PLY type ("float" or "double").
@@ -65,15 +66,6 @@ std::vector<HitD> brute_force_hits(const TriangleMeshD& mesh, const std::vector<
   return hits;
 }
 
-nlohmann::json last_line_json(const std::string& out) {
-  std::istringstream lines(out);
-  std::string line, last;
-  while (std::getline(lines, line)) {
-    if (!line.empty()) last = line;
-  }
-  return nlohmann::json::parse(last);
-}
-
 void expect_same_hits(const std::vector<HitD>& got, const std::vector<HitD>& expected, bool same_prim) {
   ASSERT_EQ(got.size(), expected.size());
   for (std::size_t i = 0; i < got.size(); ++i) {
@@ -112,7 +104,7 @@ TEST(CliTraceDouble, DoublePlyFarAwayEqualsTheLibrarysDoubleBruteForce) {
   for (const HitD& h : expected) found += h.found() ? 1 : 0;
   EXPECT_GT(found, rays.size() / 2);
   EXPECT_LT(found, rays.size());
-  const nlohmann::json summary = last_line_json(bvh.out);
+  const nlohmann::json summary = nlohmann::json::parse(last_nonempty_line(bvh.out));
   for (const char* key : {"accel", "scene", "primitives", "rays", "query", "threads", "build_ms_median",
                           "trace_ms_median", "mrays_s_median", "hit_count", "memory_bytes", "scene_memory_bytes",
                           "input_memory_bytes", "out"}) {
@@ -147,7 +139,7 @@ TEST(CliTraceDouble, FloatPlyPlacedByOffsetAndOcclusion) {
                              (dir / "out.hits64").string()});
   ASSERT_EQ(hits.exit_code, 0) << hits.err;
   expect_same_hits(read_hits_d(dir / "out.hits64"), expected, true);
-  const nlohmann::json summary = last_line_json(hits.out);
+  const nlohmann::json summary = nlohmann::json::parse(last_nonempty_line(hits.out));
   EXPECT_EQ(summary["offset"], (nlohmann::json{kOffset.x, kOffset.y, kOffset.z}));
 
   const auto occ = run_cli({"trace", (dir / "sphere.ply").string(), (dir / "far.rays64").string(), "--precision",
@@ -161,8 +153,8 @@ TEST(CliTraceDouble, FloatPlyPlacedByOffsetAndOcclusion) {
     EXPECT_EQ(occluded[i] == 1, expected[i].found()) << "ray " << i;
     blocked += occluded[i];
   }
-  EXPECT_EQ(last_line_json(occ.out)["query"], "occluded");
-  EXPECT_EQ(last_line_json(occ.out)["hit_count"], blocked);
+  EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(occ.out))["query"], "occluded");
+  EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(occ.out))["hit_count"], blocked);
 }
 
 TEST(CliTraceDouble, UnsupportedOptionsAndBadInputsAreRefusedByName) {

@@ -62,4 +62,13 @@ CommandResult run_program(const std::string& program, const std::vector<std::str
 
 CommandResult run_cli(const std::vector<std::string>& args) { return run_program(RAYACCEL_CLI_PATH, args); }
 
+std::string last_nonempty_line(const std::string& out) {
+  std::istringstream lines(out);
+  std::string line, last;
+  while (std::getline(lines, line)) {
+    if (!line.empty()) last = line;
+  }
+  return last;
+}
+
 }  // namespace rayaccel::testing

@@ -22,5 +22,7 @@ CommandResult run_cli(const std::vector<std::string>& args);
 /// A fresh empty directory under the test temp dir, named after the running test.
 std::filesystem::path fresh_directory(const std::string& tag);
 std::string read_file(const std::filesystem::path& path);
+/// The last line of `out` that is not empty (the one-line JSON summary the CLI prints last).
+std::string last_nonempty_line(const std::string& out);
 
 }  // namespace rayaccel::testing

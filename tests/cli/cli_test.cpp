@@ -24,6 +24,7 @@ namespace rayaccel {
 namespace {
 
 using testing::fresh_directory;
+using testing::last_nonempty_line;
 using testing::run_cli;
 
 /// Writes a binary little-endian PLY in the format of shared/scenes (float xyz, uchar-count int faces).
@@ -112,15 +113,6 @@ std::vector<Hit> brute_force_hits(const SmallCase& c) {
   return hits;
 }
 
-nlohmann::json last_line_json(const std::string& out) {
-  std::istringstream lines(out);
-  std::string line, last;
-  while (std::getline(lines, line)) {
-    if (!line.empty()) last = line;
-  }
-  return nlohmann::json::parse(last);
-}
-
 TEST(CliTrace, HitsFileEqualsInProcessBruteForce) {
   const SmallCase c = make_small_case();
   const auto out = c.dir / "out.hits";
@@ -143,7 +135,7 @@ TEST(CliTrace, HitsFileEqualsInProcessBruteForce) {
   EXPECT_GT(found, rays.size() / 3) << "the rays should mostly hit";
   EXPECT_LT(found, rays.size()) << "some rays should miss";
 
-  const nlohmann::json summary = last_line_json(result.out);
+  const nlohmann::json summary = nlohmann::json::parse(last_nonempty_line(result.out));
   for (const char* key : {"accel", "scene", "primitives", "rays", "threads", "build_ms_median", "trace_ms_median",
                           "mrays_s_median", "hit_count", "memory_bytes", "scene_memory_bytes"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
@@ -169,7 +161,7 @@ TEST(CliTrace, PacketsGiveTheClosestHits) {
     EXPECT_EQ(std::memcmp(&got[i].t, &expected[i].t, sizeof(float)), 0) << "ray " << i;
     EXPECT_EQ(got[i].found(), expected[i].found()) << "ray " << i;
   }
-  EXPECT_EQ(last_line_json(result.out)["query"], "intersect_packets");
+  EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(result.out))["query"], "intersect_packets");
 }
 
 TEST(CliTrace, SaveThenLoadGivesTheSameHits) {
@@ -180,11 +172,11 @@ TEST(CliTrace, SaveThenLoadGivesTheSameHits) {
     const auto built = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", accel, "--repeat", "1",
                                 "--save", saved.string(), "--out", built_hits.string()});
     ASSERT_EQ(built.exit_code, 0) << built.err;
-    EXPECT_EQ(last_line_json(built.out)["saved_to"], saved.string());
+    EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(built.out))["saved_to"], saved.string());
     const auto loaded = run_cli({"trace", c.ply.string(), c.rays.string(), "--repeat", "1", "--load", saved.string(),
                                  "--out", loaded_hits.string()});
     ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
-    const nlohmann::json summary = last_line_json(loaded.out);
+    const nlohmann::json summary = nlohmann::json::parse(last_nonempty_line(loaded.out));
     EXPECT_TRUE(summary.contains("load_ms"));
     EXPECT_FALSE(summary.contains("build_ms_median"));
     EXPECT_EQ(testing::read_file(built_hits), testing::read_file(loaded_hits)) << accel;
@@ -214,7 +206,7 @@ TEST(CliTrace, OcclusionWritesOccFile) {
   std::vector<std::uint8_t> expected(rays.size());
   oracle.occluded(rays, expected);
   EXPECT_EQ(read_occlusion(out), expected);
-  const nlohmann::json summary = last_line_json(result.out);
+  const nlohmann::json summary = nlohmann::json::parse(last_nonempty_line(result.out));
   EXPECT_EQ(summary["threads"], 1);
   EXPECT_EQ(summary["hit_count"], std::count(expected.begin(), expected.end(), std::uint8_t{1}));
 }

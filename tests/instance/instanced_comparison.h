@@ -195,4 +195,29 @@ inline Tally compare_rays(const InstancedScene& scene, const InstancedAccelerato
   return tally;
 }
 
+/// The reference for disabled instances: the scene of `scene`'s enabled instances alone, and for each of its instances
+/// the number of that instance in `scene` (compare_rays()'s instance_map).
+struct EnabledOnly {
+  InstancedScene scene;
+  std::vector<std::uint32_t> instance_map;
+};
+
+/// Disables every third instance of `scene` in `accel` (checking is_enabled()) and returns the reference.
+inline EnabledOnly disable_every_third_instance(const InstancedScene& scene, InstancedAccelerator& accel) {
+  EnabledOnly out;
+  for (std::uint32_t g = 0; g < scene.geometry_count(); ++g) {
+    out.scene.add_geometry(std::make_shared<const Scene>(scene.geometry(g)));
+  }
+  for (std::uint32_t i = 0; i < scene.instance_count(); ++i) {
+    const bool enabled = i % 3 != 0;
+    accel.set_enabled(i, enabled);
+    EXPECT_EQ(accel.is_enabled(i), enabled);
+    if (!enabled) continue;
+    const Instance& instance = scene.instance(i);
+    out.scene.add_instance(instance.geometry, instance.transform, instance.instance_id);
+    out.instance_map.push_back(i);
+  }
+  return out;
+}
+
 }  // namespace rayaccel::instanced_test

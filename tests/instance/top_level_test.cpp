@@ -42,20 +42,8 @@ TEST_P(ConformanceInstancedTop, DisabledInstancesAreNeverHit) {
   const InstancedScene scene = make_scene(36, 17);
   InstancedAccelerator accel(with_top(GetParam()));
   accel.build(scene);
-  InstancedScene enabled_only;
-  for (std::uint32_t g = 0; g < scene.geometry_count(); ++g) {
-    enabled_only.add_geometry(std::make_shared<const Scene>(scene.geometry(g)));
-  }
-  std::vector<std::uint32_t> instance_map;
-  for (std::uint32_t i = 0; i < scene.instance_count(); ++i) {
-    const bool enabled = i % 3 != 0;
-    accel.set_enabled(i, enabled);
-    if (!enabled) continue;
-    const Instance& instance = scene.instance(i);
-    enabled_only.add_instance(instance.geometry, instance.transform, instance.instance_id);
-    instance_map.push_back(i);
-  }
-  compare_rays(enabled_only, accel, 18, 600, &scene, instance_map);
+  const EnabledOnly enabled_only = disable_every_third_instance(scene, accel);
+  compare_rays(enabled_only.scene, accel, 18, 600, &scene, enabled_only.instance_map);
   for (std::uint32_t i = 0; i < scene.instance_count(); ++i) accel.set_enabled(i, true);
   compare_rays(scene, accel, 20, 200);
 }
