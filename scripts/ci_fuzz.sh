@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# CI tier: the libFuzzer targets of tests/fuzz, built with Clang, ASan and UBSan in build-fuzz, each run on a copy of
-# its checked-in corpus (tests/fuzz/corpus/<target>; the copy keeps the inputs found out of the source tree). A crash,
-# sanitizer report, leak or timeout fails the tier; the input that caused it is left in build-fuzz/findings, and the
-# run's whole log beside it. CI replays the same runs every time: a fixed seed (FUZZ_SEED, default 1), a fixed number
-# of inputs per target (below: about 25 s each on CI's machine; FUZZ_SCALE multiplies them), the library's parallel
-# loops on one thread (tests/fuzz/one_thread.cpp) and address randomisation off (setarch -R; where the system refuses
-# it, the runs go on with it). A run by time instead followed the coverage of whatever the machine managed in 25 s,
-# so a CI run could meet an input no earlier run had; now a red CI names an input anyone can replay, and a green
-# local run of this script is the run CI makes. Each target also stops after FUZZ_MAX_SECONDS (default 100) so a slow
-# machine cannot stall CI. Exploration with fresh seeds is done by hand, and what it finds joins the corpus:
+# CI tier: the libFuzzer targets of tests/fuzz, built with Clang, ASan and UBSan in build-fuzz
+# (scripts/clang_sanitized_tree.sh), each run on a copy of its checked-in corpus (tests/fuzz/corpus/<target>; the
+# copy keeps the inputs found out of the source tree). A crash, sanitizer report, leak or timeout fails the tier; the
+# input that caused it is left in build-fuzz/findings, and the run's whole log beside it. CI replays the same runs
+# every time: a fixed seed (FUZZ_SEED, default 1), a fixed number of inputs per target (below: about 25 s each on
+# CI's machine; FUZZ_SCALE multiplies them), the library's parallel loops on one thread (tests/fuzz/one_thread.cpp)
+# and address randomisation off (setarch -R; where the system refuses it, the runs go on with it). A run by time
+# instead followed the coverage of whatever the machine managed in 25 s, so a CI run could meet an input no earlier
+# run had; now a red CI names an input anyone can replay, and a green local run of this script is the run CI makes.
+# Each target also stops after FUZZ_MAX_SECONDS (default 100) so a slow machine cannot stall CI. Exploration with
+# fresh seeds is done by hand, and what it finds joins the corpus:
 #   FUZZ_SEED=0 FUZZ_SCALE=100 FUZZ_MAX_SECONDS=3600 scripts/ci_fuzz.sh      (seed 0: libFuzzer picks one)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,15 +17,12 @@ scale=${FUZZ_SCALE:-1}
 max_seconds=${FUZZ_MAX_SECONDS:-100}
 seed=${FUZZ_SEED:-1}
 start=$(date +%s)
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release -DRAYACCEL_SANITIZE=ON \
-  -DRAYACCEL_BUILD_FUZZERS=ON -DRAYACCEL_BUILD_TESTS=OFF -DRAYACCEL_BUILD_CLI=OFF -DRAYACCEL_BUILD_BENCH=OFF \
-  -DRAYACCEL_BUILD_PYTHON=OFF -DRAYACCEL_BUILD_SHARED=OFF -DRAYACCEL_INSTALL=OFF -DRAYACCEL_WITH_EMBREE=OFF
 targets=(fuzz_ply_reader fuzz_ray_file fuzz_specs fuzz_bvh_file fuzz_differential)
 declare -A runs=([fuzz_ply_reader]=600000 [fuzz_ray_file]=100000 [fuzz_specs]=350000 [fuzz_bvh_file]=80000
                  [fuzz_differential]=600)
 no_aslr=(setarch "$(uname -m)" -R)
 "${no_aslr[@]}" true 2>/dev/null || no_aslr=()
-cmake --build build-fuzz --target "${targets[@]}"
+scripts/clang_sanitized_tree.sh "${targets[@]}"
 built=$(date +%s)
 export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
