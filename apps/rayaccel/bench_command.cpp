@@ -263,7 +263,11 @@ StructureResult measure(const SceneContext& ctx, const std::string& spec, bool i
     for (const auto& problem : row.validate_problems) {
       std::cerr << fmt::format("INVALID {} on {}: {}\n", spec, ctx.scene.name(), problem);
     }
-    if (!is_embree) ctx.check.check(*accel, row.kinds);
+    if (is_embree) {
+      ctx.check.check_foreign(*accel, row.kinds);
+    } else {
+      ctx.check.check(*accel, row.kinds);
+    }
     time_traces(ctx, *accel, row);
     if (!is_embree) {
       ctx.progress.step("counting traversal steps");
