@@ -1,7 +1,8 @@
 // The check `rayaccel bench` runs before timing anything: every structure's answers against Embree for every ray
-// (every disagreement then settled by brute force, the oracle) or, without Embree, against brute force on a sample.
-// Closest hits must name the oracle's primitive or an exact tie in t, and carry exactly the t, u, v that the shared
-// triangle kernel gives for the primitive they name.
+// (every disagreement, and a sample of every workload, then settled by brute force, the oracle) or, without Embree,
+// against brute force on a sample. Closest hits must name the oracle's primitive or an exact tie in t, and carry
+// exactly the t, u, v that the shared triangle kernel gives for the primitive they name. Embree's own answers are
+// checked on the sample by a rule for a foreign kernel: the same hit or miss, t within a relative tolerance.
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -56,6 +57,41 @@ std::string describe(const Ray& r) {
   return fmt::format("o=({:.9g},{:.9g},{:.9g}) d=({:.9g},{:.9g},{:.9g}) t=[{:.9g},{:.9g}]", r.origin.x, r.origin.y,
                      r.origin.z, r.direction.x, r.direction.y, r.direction.z, r.t_min, r.t_max);
 }
+
+/// Positions 0..count-1 spread evenly over n (all of them when count == n).
+std::vector<std::size_t> spread(std::size_t n, std::size_t count) {
+  std::vector<std::size_t> positions(count);
+  for (std::size_t i = 0; i < count; ++i) positions[i] = count == n ? i : i * n / count;
+  return positions;
+}
+
+/// The rays `ids` of workload `w`, and the answers of `accel` to them: closest hits (`hits`) or occlusion
+/// (`occluded`). Packet workloads are traced whole with intersect_packets(), so the packets are the timed ones (a
+/// subset's rays put together would not be its packets).
+std::vector<Ray> trace(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
+                       std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded) {
+  std::vector<Ray> rays(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) rays[i] = w.rays[ids[i]];
+  hits.assign(w.any_hit() ? 0 : rays.size(), Hit{});
+  occluded.assign(w.any_hit() ? rays.size() : 0, 0);
+  if (w.any_hit()) {
+    accel.occluded(rays, occluded);
+  } else if (w.packets()) {
+    std::vector<Hit> all(w.rays.size());
+    accel.intersect_packets(w.rays, all);
+    for (std::size_t i = 0; i < ids.size(); ++i) hits[i] = all[ids[i]];
+  } else {
+    accel.intersect(rays, hits);
+  }
+  return rays;
+}
+
+/// A foreign kernel's closest hit against brute force's: both miss, or both hit at t within `relative` of each
+/// other, on any primitive (another kernel's rounding may pick the other side of a near tie).
+bool agrees_as_foreign(const Hit& got, const Hit& want, float relative) {
+  if (got.found() != want.found()) return false;
+  return !got.found() || std::fabs(got.t - want.t) <= relative * std::fabs(want.t);
+}
 }  // namespace
 
 ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& workloads, const Accelerator* embree,
@@ -66,25 +102,28 @@ ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& 
   for (const Workload& w : workloads) {
     Answers a;
     const std::size_t n = w.rays.size();
-    const std::size_t count = from_embree_ ? n : std::min(n, sample_size);
-    a.indices.resize(count);
-    for (std::size_t i = 0; i < count; ++i) a.indices[i] = count == n ? i : i * n / count;
-    std::vector<Ray> rays(count);
-    for (std::size_t i = 0; i < count; ++i) rays[i] = w.rays[a.indices[i]];
+    a.indices = spread(n, from_embree_ ? n : std::min(n, sample_size));
+    if (from_embree_) a.sample = spread(n, std::min(n, sample_size));
+    std::vector<Ray> rays(a.indices.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) rays[i] = w.rays[a.indices[i]];
     const Accelerator& reference = from_embree_ ? *embree : static_cast<const Accelerator&>(oracle_);
     if (w.any_hit()) {
-      a.occluded.resize(count);
+      a.occluded.resize(rays.size());
       reference.occluded(rays, a.occluded);
     } else {
-      a.hits.resize(count);
+      a.hits.resize(rays.size());
       reference.intersect(rays, a.hits);
     }
     answers_.push_back(std::move(a));
   }
+  // Brute force's answers on the sample, once: every structure is checked against them besides Embree's.
+  for (std::size_t k = 0; k < workloads.size(); ++k) settle(k, answers_[k].sample);
 }
 
 std::string ReferenceCheck::description() const {
-  return from_embree_ ? std::string("embree on every ray, disagreements settled by brute force")
+  return from_embree_ ? fmt::format("embree on every ray, disagreements and a sample of up to {} rays per ray kind "
+                                    "settled by brute force",
+                                    sample_size_)
                       : fmt::format("brute force on a sample of up to {} rays per ray kind", sample_size_);
 }
 
@@ -115,20 +154,9 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
     const Workload& w = workloads_[k];
     const Answers& a = answers_[k];
     KindResult& result = kinds[k];
-    std::vector<Ray> rays(a.indices.size());
-    for (std::size_t i = 0; i < rays.size(); ++i) rays[i] = w.rays[a.indices[i]];
-    std::vector<Hit> hits(w.any_hit() ? 0 : rays.size());
-    std::vector<std::uint8_t> occluded(w.any_hit() ? rays.size() : 0);
-    if (w.any_hit()) {
-      accel.occluded(rays, occluded);
-    } else if (w.packets()) {
-      // The packets of the whole workload, as timed; a sample's rays put together would not be its packets.
-      std::vector<Hit> all(w.rays.size());
-      accel.intersect_packets(w.rays, all);
-      for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = all[a.indices[i]];
-    } else {
-      accel.intersect(rays, hits);
-    }
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> occluded;
+    const std::vector<Ray> rays = trace(accel, w, a.indices, hits, occluded);
     result.checked = rays.size();
     // First pass: answers the reference accepts, and rays to settle by brute force (Embree's disagreements).
     std::vector<std::size_t> disagreements;
@@ -138,18 +166,26 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
                                           : agrees_with_oracle(hits[i], a.hits[i]);
       if (!agrees) disagreements.push_back(i);
     }
-    if (from_embree_) settle(k, disagreements);
-    std::vector<bool> settled_ok(rays.size(), false);
-    for (std::size_t i : disagreements) {
-      if (!from_embree_) continue;
-      const Settled& truth = settled_[k].at(i);
-      settled_ok[i] = w.any_hit() ? (occluded[i] != 0) == truth.occluded : agrees_with_oracle(hits[i], truth.hit);
-      if (settled_ok[i]) ++result.reference_differences;
-    }
-    // Second pass: every disagreement the oracle did not settle, and every closest hit whose t, u, v are not the
-    // kernel's for the primitive it names, is a mismatch.
     std::vector<bool> disagrees(rays.size(), false);
-    for (std::size_t i : disagreements) disagrees[i] = !settled_ok[i];
+    if (!from_embree_) {
+      for (std::size_t i : disagreements) disagrees[i] = true;
+    } else {
+      // Brute force decides every disagreement with Embree, and every ray of the sample, where the structure could
+      // agree with Embree and both be wrong.
+      settle(k, disagreements);
+      std::vector<bool> decide(rays.size(), false), differs_from_embree(rays.size(), false);
+      for (std::size_t i : disagreements) decide[i] = differs_from_embree[i] = true;
+      for (std::size_t i : a.sample) decide[i] = true;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        if (!decide[i]) continue;
+        const Settled& truth = settled_[k].at(i);
+        const bool ok = w.any_hit() ? (occluded[i] != 0) == truth.occluded : agrees_with_oracle(hits[i], truth.hit);
+        if (!ok) disagrees[i] = true;
+        if (ok && differs_from_embree[i]) ++result.reference_differences;
+      }
+    }
+    // Second pass: every answer brute force rejected, and every closest hit whose t, u, v are not the kernel's for
+    // the primitive it names, is a mismatch.
     std::size_t examples = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const std::string fault = w.any_hit() ? std::string() : kernel_fault(scene_, rays[i], hits[i]);
@@ -171,6 +207,35 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
     if (result.mismatches > 0) {
       std::cerr << fmt::format("MISMATCH {} on {} {}: {} of {} rays disagree with the reference\n", accel.spec(),
                                scene_.name(), to_string(w.kind), result.mismatches, result.checked);
+    }
+  }
+}
+
+void ReferenceCheck::check_foreign(const Accelerator& foreign, std::vector<KindResult>& kinds) const {
+  if (!from_embree_) return;
+  for (std::size_t k = 0; k < workloads_.size(); ++k) {
+    const Workload& w = workloads_[k];
+    const Answers& a = answers_[k];
+    KindResult& result = kinds[k];
+    std::vector<std::size_t> ids(a.sample.size());
+    for (std::size_t j = 0; j < ids.size(); ++j) ids[j] = a.indices[a.sample[j]];
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> occluded;
+    const std::vector<Ray> rays = trace(foreign, w, ids, hits, occluded);
+    result.checked = rays.size();
+    std::size_t examples = 0;
+    for (std::size_t j = 0; j < rays.size(); ++j) {
+      const Settled& truth = settled_[k].at(a.sample[j]);
+      const bool ok = w.any_hit() ? (occluded[j] != 0) == truth.occluded
+                                  : agrees_as_foreign(hits[j], truth.hit, kForeignRelativeT);
+      if (ok) continue;
+      ++result.foreign_differences;
+      if (examples++ >= kExamples) continue;
+      const std::string got = w.any_hit() ? (occluded[j] ? "occluded" : "not occluded") : describe(hits[j]);
+      const std::string want = w.any_hit() ? (truth.occluded ? "occluded" : "not occluded") : describe(truth.hit);
+      std::cerr << fmt::format("note: {} differs from brute force on {} {} ray {}: got {}, brute force {}; ray {}\n",
+                               foreign.spec(), scene_.name(), to_string(w.kind), ids[j], got, want,
+                               describe(rays[j]));
     }
   }
 }

@@ -236,6 +236,11 @@ void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<H
   constexpr std::size_t kLanes = detail::kPacketSize;
   static_assert(kLanes == 8, "one rtcIntersect8 call per packet");
   detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
+    if (!state_->scene) {
+      std::fill(hits.begin() + static_cast<std::ptrdiff_t>(begin), hits.begin() + static_cast<std::ptrdiff_t>(end),
+                Hit{});
+      return;
+    }
     const EmbreeFloatMode mode;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -246,23 +251,24 @@ void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<H
       const std::size_t count = std::min(kLanes, end - first);
       bool any = false;
       for (std::size_t lane = 0; lane < kLanes; ++lane) {
-        const bool active = lane < count && state_->scene && !cannot_hit(rays[first + lane]);
+        const bool active = lane < count && !cannot_hit(rays[first + lane]);
         valid[lane] = active ? -1 : 0;
         if (active) {
           to_embree(rays[first + lane], query, static_cast<int>(lane));
           any = true;
         }
       }
-      for (std::size_t lane = 0; lane < count; ++lane) hits[first + lane] = Hit{};
-      if (!any) continue;
-      rtcIntersect8(valid, state_->scene, &context, &query);
+      if (any) rtcIntersect8(valid, state_->scene, &context, &query);
+      // Each record written whole and once, as rayaccel's packet traversal writes its own (a miss is Hit{}).
       for (std::size_t lane = 0; lane < count; ++lane) {
-        if (valid[lane] == 0 || query.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
-        Hit& hit = hits[first + lane];
-        hit.t = query.ray.tfar[lane];
-        hit.prim_id = state_->prim_ids[query.hit.primID[lane]];
-        hit.u = query.hit.u[lane];
-        hit.v = query.hit.v[lane];
+        Hit hit;
+        if (valid[lane] != 0 && query.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID) {
+          hit.t = query.ray.tfar[lane];
+          hit.prim_id = state_->prim_ids[query.hit.primID[lane]];
+          hit.u = query.hit.u[lane];
+          hit.v = query.hit.v[lane];
+        }
+        hits[first + lane] = hit;
       }
     }
   });

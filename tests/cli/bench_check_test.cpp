@@ -1,6 +1,8 @@
 // Tests of the bench's reference check (apps/rayaccel/bench_check.cpp): an honest structure passes, and
-// deliberately wrong ones fail it: another primitive at a nearly equal t, a hit/miss flip, and t, u, v that are
-// not the kernel's. With and without Embree as the reference.
+// deliberately wrong ones fail it: another primitive at a nearly equal t, a hit/miss flip, every 10th hit dropped, a
+// neighbouring primitive, and t, u, v that are not the kernel's. With and without Embree as the reference, with a
+// reference that is wrong the same way as the structure (the brute-force sample catches it), and Embree's own row
+// under the foreign-kernel rule.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -68,11 +70,29 @@ std::vector<Workload> straight_down_rays() {
 
 /// Mismatches the check finds in `accel` on the straight-down rays, with Embree as the reference when `embree`.
 std::size_t mismatches(const Accelerator& accel, const Scene& scene, const std::vector<Workload>& workloads,
-                       const Accelerator* embree) {
-  const ReferenceCheck check(scene, workloads, embree, 2000);
+                       const Accelerator* embree, std::size_t sample_size = 2000) {
+  const ReferenceCheck check(scene, workloads, embree, sample_size);
   std::vector<KindResult> kinds(workloads.size());
   check.check(accel, kinds);
   return kinds[0].mismatches;
+}
+
+/// Replaces a hit by the farther layer's triangle under the ray, with its own kernel t, u, v: within 1e-4 relative
+/// t of the right answer, not a tie.
+std::function<void(const Ray&, Hit&)> farther_layer(const Scene& scene) {
+  return [&scene](const Ray& ray, Hit& h) {
+    const PreparedRay prepared(ray);
+    Hit farther = Hit::begin(prepared);
+    for (std::uint32_t prim : {2u, 3u}) scene.intersect(prim, prepared, farther);
+    h = farther;
+  };
+}
+
+/// Drops the 1st, 11th, 21st, ... hit asked for (7 of the 64 straight-down rays, traced one by one in order).
+std::function<void(const Ray&, Hit&)> every_tenth_dropped() {
+  return [calls = std::size_t{0}](const Ray&, Hit& h) mutable {
+    if (calls++ % 10 == 0) h = Hit{};
+  };
 }
 
 void expect_check_catches_wrong_structures(const Accelerator* embree) {
@@ -84,14 +104,10 @@ void expect_check_catches_wrong_structures(const Accelerator* embree) {
     return mismatches(accel, scene, workloads, embree);
   };
   EXPECT_EQ(run([](const Ray&, Hit&) {}), 0u) << "an honest structure passes";
-  // The farther layer's triangle under the ray, with its own kernel t, u, v: 1e-4 relative t apart, not a tie.
-  EXPECT_EQ(run([&](const Ray& ray, Hit& h) {
-              const PreparedRay prepared(ray);
-              Hit farther = Hit::begin(prepared);
-              for (std::uint32_t prim : {2u, 3u}) scene.intersect(prim, prepared, farther);
-              h = farther;
-            }),
-            64u);
+  EXPECT_EQ(run(farther_layer(scene)), 64u);
+  EXPECT_EQ(run(every_tenth_dropped()), 7u);
+  // The other triangle of the same square, which the ray does not cross, with the right t, u, v.
+  EXPECT_EQ(run([](const Ray&, Hit& h) { h.prim_id ^= 1u; }), 64u);
   // A miss reported for one ray.
   EXPECT_EQ(run([](const Ray& ray, Hit& h) {
               if (ray.origin.x < -0.8f && ray.origin.y < -0.8f) h = Hit{};
@@ -111,7 +127,46 @@ TEST(BenchCheck, CatchesWrongStructuresAgainstEmbree) {
   embree.build(scene);
   expect_check_catches_wrong_structures(&embree);
 }
+
+TEST(BenchCheck, EmbreesOwnRowIsCheckedAsAForeignKernel) {
+  const Scene scene = two_close_layers();
+  const std::vector<Workload> workloads = straight_down_rays();
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  const ReferenceCheck check(scene, workloads, &embree, 2000);
+  const auto differences = [&](const Accelerator& row) {
+    std::vector<KindResult> kinds(workloads.size());
+    check.check_foreign(row, kinds);
+    EXPECT_EQ(kinds[0].checked, 64u);
+    return kinds[0].foreign_differences;
+  };
+  EXPECT_EQ(differences(embree), 0u) << "Embree itself, with its own rounding, passes";
+  const auto corrupted = [&](std::function<void(const Ray&, Hit&)> corrupt) {
+    CorruptedBruteForce row(std::move(corrupt));
+    row.build(scene);
+    return differences(row);
+  };
+  EXPECT_EQ(corrupted(every_tenth_dropped()), 7u);
+  // Another kernel's rounding in t is allowed; a t 0.1% off is not.
+  EXPECT_EQ(corrupted([](const Ray&, Hit& h) { h.t = std::nextafter(h.t, 0.0f); }), 0u);
+  EXPECT_EQ(corrupted([](const Ray&, Hit& h) { h.t *= 1.001f; }), 64u);
+}
 #endif
+
+TEST(BenchCheck, BruteForceSampleCatchesAStructureWrongLikeItsReference) {
+  // A reference that names the farther layer, as Embree would if its kernel were wrong there, and a structure
+  // wrong the same way: they agree on every ray, so only brute force's sample (10 of the 64 rays) catches them.
+  const Scene scene = two_close_layers();
+  const std::vector<Workload> workloads = straight_down_rays();
+  CorruptedBruteForce reference(farther_layer(scene));
+  reference.build(scene);
+  CorruptedBruteForce accel(farther_layer(scene));
+  accel.build(scene);
+  EXPECT_EQ(mismatches(accel, scene, workloads, &reference, 10), 10u);
+  BruteForce honest;
+  honest.build(scene);
+  EXPECT_EQ(mismatches(honest, scene, workloads, &reference, 10), 0u) << "an honest structure passes";
+}
 
 TEST(BenchCheck, KernelFaultNamesWhatDiffers) {
   const Scene scene = two_close_layers();

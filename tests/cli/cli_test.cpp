@@ -397,6 +397,9 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
       EXPECT_EQ(row["input_memory_bytes"], (3 * scene.mesh().vertices.size() + 1) * sizeof(float) +
                                                scene.valid_count() * 3 * sizeof(std::uint32_t));
       EXPECT_GT(row["memory_bytes"].get<std::size_t>(), 0u);
+      // Embree's own answers are checked on brute force's sample, by the rule for a foreign kernel.
+      EXPECT_EQ(row["rays"]["primary"]["checked"], 256);
+      EXPECT_EQ(row["rays"]["primary"]["foreign_differences"], 0);
     }
   }
   EXPECT_NE(result.out.find("with input MB"), std::string::npos) << result.out;

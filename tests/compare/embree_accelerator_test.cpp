@@ -248,6 +248,23 @@ double statistic(const Accelerator& accel, const std::string& name) {
   return -1.0;
 }
 
+TEST(EmbreeAccelerator, GetsOnlyTheTrianglesOurStructuresBuildOver) {
+  // Three zero-area triangles between two valid ones: Embree is handed the two, as brute force and our structures
+  // build over them, and reports the scene's id of the second one.
+  TriangleMesh mesh;
+  mesh.vertices = {{-1.0f, -1.0f, 1.0f}, {1.0f, -1.0f, 1.0f}, {0.0f, 1.0f, 1.0f},  // on the ray's path
+                   {5.0f, 5.0f, 1.0f},   {6.0f, 5.0f, 1.0f},  {5.0f, 6.0f, 1.0f}};  // off it
+  mesh.triangles = {{3, 4, 5}, {0, 0, 1}, {1, 1, 1}, {2, 2, 0}, {0, 1, 2}};
+  const Scene scene = Scene::from_mesh(mesh);
+  ASSERT_EQ(scene.valid_count(), 2u);
+  EmbreeAccelerator embree;
+  embree.build(scene);
+  EXPECT_EQ(statistic(embree, "triangles"), 2.0);
+  EXPECT_EQ(embree.input_memory_bytes(scene), (6 * 3 + 1) * sizeof(float) + 2 * 3 * sizeof(std::uint32_t));
+  const Hit hit = embree.intersect(Ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 10.0f});
+  EXPECT_EQ(hit.prim_id, 4u);
+}
+
 TEST(EmbreeAccelerator, RegisteredAsAComparisonEntryWithItsSpecs) {
   const AcceleratorInfo& info = find_accelerator("embree");
   EXPECT_TRUE(info.comparison);
