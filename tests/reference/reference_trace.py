@@ -7,7 +7,7 @@ decide the hit. Every step is float32 arithmetic in numpy with the operation ord
 multiply-add), with the C++ kernel's bound on the edge functions' rounding error: edge functions of opposite signs
 beyond it are a miss; when one lies within it, or the bound is large against the determinant, all three are
 recomputed from the float inputs in float64 with a static error bound, or exactly with Python's Fraction when that
-bound cannot decide the sign, and rounded to float32 (a nonzero value keeping its sign). The hit rule is
+bound exceeds 2^-30 of the value, and rounded to float32 (a nonzero value keeping its sign). The hit rule is
 t_min < t <= t_max with t clearing t_min by more than the kernel's bound on the error of t, and of equal t the lowest
 triangle index wins. The output is meant to be byte-identical to `rayaccel trace --accel brute_force`.
 
@@ -143,10 +143,11 @@ def edge_in_double(origin, direction, axes, p, q):
 
 def edge_exactly(origin, direction, axes, p, q):
     """The edge function E = X_p Y_q - Y_p X_q of the float ray and vertices, as (value, error bound): in float64
-    when its error bound decides the sign, else exactly (the value rounded)."""
+    when its error bound is below 2^-30 of the value (t is computed from these values, so a decided sign alone is
+    not enough), else exactly (the value rounded)."""
     dz = float(direction[axes[2]])
     g, error = edge_in_double(origin, direction, axes, p, q)
-    if abs(g) > error:
+    if abs(g) * 2.0 ** -30 > error:
         return g / dz, error / abs(dz)
     fr = [Fraction(float(v)) for v in origin], [Fraction(float(v)) for v in direction]
     pa = [Fraction(float(p[a])) - fr[0][a] for a in axes]
