@@ -76,7 +76,7 @@ std::string reference_key(const Scene& scene, std::span<const Ray> rays) {
 }
 
 /// The answers of the last few (scene, rays) pairs. A conformance process runs one test for every variant in turn
-/// (tests/conformance_variants.cmake), so each variant asks for the same references; brute force over them was 80%
+/// (tests/conformance_by_test.cmake), so each variant asks for the same references; brute force over them was 80%
 /// of the tier's time. Keyed by the whole input, compared byte for byte: a hit is the same computation.
 class ReferenceMemo {
  public:
