@@ -211,6 +211,22 @@ TEST(CliTrace, OcclusionWritesOccFile) {
   EXPECT_EQ(summary["hit_count"], std::count(expected.begin(), expected.end(), std::uint8_t{1}));
 }
 
+TEST(CliTrace, OcclusionPacketsGiveWhatBruteForceDecides) {
+  const SmallCase c = make_small_case();
+  const auto out = c.dir / "packets.occ";
+  const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "bvh_wide", "--occlusion",
+                               "--packets", "--repeat", "1", "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const Scene scene = load_scene(c.ply.string());
+  BruteForce oracle;
+  oracle.build(scene);
+  const std::vector<Ray> rays = read_rays(c.rays);
+  std::vector<std::uint8_t> expected(rays.size());
+  oracle.occluded(rays, expected);
+  EXPECT_EQ(read_occlusion(out), expected);
+  EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(result.out))["query"], "occluded_packets");
+}
+
 TEST(Cli, VersionPrintsTheVersionHeader) {
   const auto result = run_cli({"--version"});
   ASSERT_EQ(result.exit_code, 0) << result.err;
@@ -264,7 +280,6 @@ TEST(CliErrors, BadArgumentsNameTheValue) {
       {{"trace", ply, rays, "--threads", "0"}, "--threads", 2},
       {{"trace", ply, rays, "--threads", "many"}, "many", 2},
       {{"trace", ply, rays, "--repeat", "0"}, "--repeat", 2},
-      {{"trace", ply, rays, "--packets", "--occlusion"}, "--packets", 2},
       {{"trace", ply, rays, "--no-such-option"}, "--no-such-option", 2},
       {{"trace", (c.dir / "missing.ply").string(), rays}, "missing.ply", 2},
       {{"trace", ply, (c.dir / "missing.rays").string()}, "missing.rays", 1},
