@@ -371,21 +371,22 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   const auto result = run_cli(args);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("brute_force"), std::string::npos) << result.out;
-  // The default ray kinds, in the table's order: Mrays/s per kind, then nodes/prims per kind except packet.
+  // The default ray kinds, in the table's order: Mrays/s per kind, then nodes/prims per kind except the packet ones.
   std::size_t at = 0;
   for (const char* column : {"primary Mrays/s", "diffuse Mrays/s", "shadow Mrays/s", "occlusion Mrays/s",
-                             "light Mrays/s", "packet Mrays/s", "primary nodes/prims", "diffuse nodes/prims",
+                             "light Mrays/s", "packet Mrays/s", "light_packet Mrays/s", "primary nodes/prims",
+                             "diffuse nodes/prims",
                              "shadow nodes/prims", "occlusion nodes/prims", "light nodes/prims", "mismatches"}) {
     const std::size_t found = result.out.find(column, at);
     ASSERT_NE(found, std::string::npos) << column << " after column " << at << " in\n" << result.out;
     at = found;
   }
-  EXPECT_EQ(result.out.find("packet nodes/prims"), std::string::npos) << result.out;
+  EXPECT_EQ(result.out.find("packet nodes/prims"), std::string::npos) << result.out;  // light_packet's included
   const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
   const auto& rows = report["scenes"][0]["results"];
   bool saw_brute_force = false;
   for (const auto& row : rows) {
-    EXPECT_EQ(row["rays"].size(), 6u) << row.dump();
+    EXPECT_EQ(row["rays"].size(), 7u) << row.dump();
     if (row["accel"] != "brute_force") continue;
     saw_brute_force = true;
     EXPECT_EQ(row["mismatches"], 0);
@@ -399,6 +400,11 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
     EXPECT_EQ(row["rays"]["packet"]["mismatches"], 0);
     EXPECT_GT(row["rays"]["packet"]["mrays_s_median"].get<double>(), 0.0);
     EXPECT_FALSE(row["rays"]["packet"].contains("nodes_per_ray")) << "packet traversals take no statistics";
+    // The light rays in tile order: as many as the light kind's (one per primary hit), checked like them.
+    EXPECT_EQ(row["rays"]["light_packet"]["rays"], row["rays"]["light"]["rays"]);
+    EXPECT_GT(row["rays"]["light_packet"]["checked"].get<int>(), 0);
+    EXPECT_EQ(row["rays"]["light_packet"]["mismatches"], 0);
+    EXPECT_FALSE(row["rays"]["light_packet"].contains("nodes_per_ray"));
   }
   EXPECT_TRUE(saw_brute_force);
   // Memory on the same terms for every row: the structure's own bytes, and the input its queries read.
