@@ -98,6 +98,22 @@ void to_embree(const Ray& ray, RTCRayHit8& out, int lane) {
 /// which would be charged to Embree's time) and empty intervals.
 bool cannot_hit(const Ray& ray) { return !is_valid_ray(ray) || !(ray.t_min < ray.t_max); }
 
+/// Fills the lanes of `packet` (an RTCRay8 or RTCRayHit8) from `rays` (at most eight): valid[lane] is -1 for a lane
+/// that is filled, 0 for one past the rays or whose ray cannot hit (inactive). Returns whether any lane is active.
+template <class Packet>
+bool fill_packet(std::span<const Ray> rays, int* valid, Packet& packet) {
+  bool any = false;
+  for (std::size_t lane = 0; lane < detail::kPacketSize; ++lane) {
+    const bool active = lane < rays.size() && !cannot_hit(rays[lane]);
+    valid[lane] = active ? -1 : 0;
+    if (active) {
+      to_embree(rays[lane], packet, static_cast<int>(lane));
+      any = true;
+    }
+  }
+  return any;
+}
+
 }  // namespace
 
 EmbreeAccelerator::EmbreeAccelerator(EmbreeOptions options) : state_(std::make_unique<State>()) {
@@ -233,26 +249,6 @@ void EmbreeAccelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits
     for (std::size_t i = begin; i < end; ++i) hits[i] = intersect(rays[i]);
   });
 }
-
-namespace {
-
-/// Fills the lanes of `packet` (an RTCRay8 or RTCRayHit8) from `rays` (at most eight): valid[lane] is -1 for a lane
-/// that is filled, 0 for one past the rays or whose ray cannot hit (inactive). Returns whether any lane is active.
-template <class Packet>
-bool fill_packet(std::span<const Ray> rays, int* valid, Packet& packet) {
-  bool any = false;
-  for (std::size_t lane = 0; lane < detail::kPacketSize; ++lane) {
-    const bool active = lane < rays.size() && !cannot_hit(rays[lane]);
-    valid[lane] = active ? -1 : 0;
-    if (active) {
-      to_embree(rays[lane], packet, static_cast<int>(lane));
-      any = true;
-    }
-  }
-  return any;
-}
-
-}  // namespace
 
 void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
