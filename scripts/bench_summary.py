@@ -7,7 +7,8 @@ Every ratio is taken within one run (a structure against Embree measured in the 
 the runs is printed, so one noisy run does not decide a cell.
 Ray kinds, each shown when every result of every run has it: P primary, D diffuse, S shadow (short AO rays), O
 occlusion (a quarter of the diagonal from origins offset along the normal), L light (rays to a point light), Pk packet
-(the primary rays in 4x2 pixel tiles traced eight at a time: intersect_packets(), Embree's rtcIntersect8).
+(the primary rays in 4x2 pixel tiles traced eight at a time: intersect_packets(), Embree's rtcIntersect8), LPk
+light_packet (the light rays in that tile order traced eight at a time: occluded_packets(), Embree's rtcOccluded8).
 Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree's default; Embree's own figures are
 medians too. When the runs have Embree's robust mode (embree:robust=1), a column gives the default against it.
 Table 2: the lowest and highest of the default structure's ratios over the runs (only with two or more runs).
@@ -18,7 +19,8 @@ import statistics
 import sys
 from pathlib import Path
 
-LETTERS = {"primary": "P", "diffuse": "D", "shadow": "S", "occlusion": "O", "light": "L", "packet": "Pk"}
+LETTERS = {"primary": "P", "diffuse": "D", "shadow": "S", "occlusion": "O", "light": "L", "packet": "Pk",
+           "light_packet": "LPk"}
 KINDS = tuple(LETTERS)  # set by main() to the kinds every result of every run has, in this order
 DEFAULT = "bvh_wide"
 EMBREE = "embree"

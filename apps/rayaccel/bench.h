@@ -19,17 +19,23 @@ namespace rayaccel::cli {
 
 /// shadow: short ambient-occlusion rays from pbrt-tight origins; occlusion: longer ones from origins a fixed epsilon
 /// off the surface; light: rays to a point light; packet: the primary rays reordered so that each run of eight is a
-/// 4 x 2 pixel tile (packet_tile_order()). bench_command.cpp's footer gives the lengths.
-enum class RayKind { primary, diffuse, shadow, occlusion, light, packet };
+/// 4 x 2 pixel tile (packet_tile_order()); light_packet: the light rays of the primary hits in that order.
+/// bench_command.cpp's footer gives the lengths.
+enum class RayKind { primary, diffuse, shadow, occlusion, light, packet, light_packet };
 const char* to_string(RayKind kind);
+/// Packet kinds are traced eight rays at a time and take no statistics.
+inline bool is_packet_kind(RayKind kind) { return kind == RayKind::packet || kind == RayKind::light_packet; }
 
 /// One set of rays traced the same way for every structure: intersect() for primary and diffuse, occluded() for
-/// shadow, occlusion and light rays, intersect_packets() for packet rays.
+/// shadow, occlusion and light rays, intersect_packets() for packet rays, occluded_packets() for light_packet rays.
 struct Workload {
   RayKind kind = RayKind::primary;
   std::vector<Ray> rays;
-  bool any_hit() const { return kind == RayKind::shadow || kind == RayKind::occlusion || kind == RayKind::light; }
-  bool packets() const { return kind == RayKind::packet; }
+  bool any_hit() const {
+    return kind == RayKind::shadow || kind == RayKind::occlusion || kind == RayKind::light ||
+           kind == RayKind::light_packet;
+  }
+  bool packets() const { return is_packet_kind(kind); }
 };
 
 struct KindResult {
@@ -86,8 +92,8 @@ class ReferenceCheck {
                  std::size_t sample_size);
   /// Compares `accel` with the reference on every workload; fills checked / mismatches / reference_differences
   /// of `kinds` (one per workload) and prints the first mismatches to stderr. Packet workloads are traced whole
-  /// with intersect_packets() (so the packets are the timed ones) and compared with the reference's single-ray
-  /// answers.
+  /// with intersect_packets() or occluded_packets() (so the packets are the timed ones) and compared with the
+  /// reference's single-ray answers.
   void check(const Accelerator& accel, std::vector<KindResult>& kinds) const;
   /// Embree's row (`foreign`, another triangle kernel): its answers on the brute-force sample must hit or miss (be
   /// occluded or not) as brute force does, closest hits at a t within kForeignRelativeT of brute force's t on any

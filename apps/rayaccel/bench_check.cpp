@@ -66,15 +66,19 @@ std::vector<std::size_t> spread(std::size_t n, std::size_t count) {
 }
 
 /// The rays `ids` of workload `w`, and the answers of `accel` to them: closest hits (`hits`) or occlusion
-/// (`occluded`). Packet workloads are traced whole with intersect_packets(), so the packets are the timed ones (a
-/// subset's rays put together would not be its packets).
+/// (`occluded`). Packet workloads are traced whole with intersect_packets() or occluded_packets(), so the packets
+/// are the timed ones (a subset's rays put together would not be its packets).
 std::vector<Ray> trace(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
                        std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded) {
   std::vector<Ray> rays(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) rays[i] = w.rays[ids[i]];
   hits.assign(w.any_hit() ? 0 : rays.size(), Hit{});
   occluded.assign(w.any_hit() ? rays.size() : 0, 0);
-  if (w.any_hit()) {
+  if (w.any_hit() && w.packets()) {
+    std::vector<std::uint8_t> all(w.rays.size());
+    accel.occluded_packets(w.rays, all);
+    for (std::size_t i = 0; i < ids.size(); ++i) occluded[i] = all[ids[i]];
+  } else if (w.any_hit()) {
     accel.occluded(rays, occluded);
   } else if (w.packets()) {
     std::vector<Hit> all(w.rays.size());

@@ -1,6 +1,7 @@
 // `rayaccel bench SCENE...`: for each scene and structure, build time (median of 3 after a warm-up, plus the scene
-// preparation), memory, Mrays/s for primary, diffuse, shadow, occlusion and light rays and for the primary rays in
-// 4 x 2 pixel tiles traced as packets of eight (intersect_packets(); Embree: rtcIntersect8), traversal cost per ray,
+// preparation), memory, Mrays/s for primary, diffuse, shadow, occlusion and light rays and for the primary and
+// light rays in 4 x 2 pixel tiles traced as packets of eight (intersect_packets(), occluded_packets(); Embree:
+// rtcIntersect8, rtcOccluded8), traversal cost per ray,
 // and a check of every answer against a reference before any timing; optionally an Embree row (measured before and
 // after the structures), JSON, and images.
 #include <fmt/core.h>
@@ -27,7 +28,7 @@ namespace {
 struct BenchArgs {
   std::vector<std::string> scenes;
   std::string accel = "all";
-  std::string rays = "primary,diffuse,shadow,occlusion,light,packet";
+  std::string rays = "primary,diffuse,shadow,occlusion,light,packet,light_packet";
   int resolution = 256;
   int threads = 0;
   int repeat = 5;
@@ -101,9 +102,11 @@ std::vector<RayKind> parse_kinds(const std::string& text) {
       kind = RayKind::light;
     } else if (item == "packet") {
       kind = RayKind::packet;
+    } else if (item == "light_packet") {
+      kind = RayKind::light_packet;
     } else {
       throw UsageError("--rays: unknown ray kind '" + item +
-                       "' (known: primary, diffuse, shadow, occlusion, light, packet)");
+                       "' (known: primary, diffuse, shadow, occlusion, light, packet, light_packet)");
     }
     if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) kinds.push_back(kind);
   }
@@ -158,7 +161,9 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
     std::vector<std::uint8_t> occluded(w.any_hit() ? w.rays.size() : 0);
     const auto pass = [&] {
       const Stopwatch clock;
-      if (w.any_hit()) {
+      if (w.any_hit() && w.packets()) {
+        accel.occluded_packets(w.rays, occluded);
+      } else if (w.any_hit()) {
         accel.occluded(w.rays, occluded);
       } else if (w.packets()) {
         accel.intersect_packets(w.rays, hits);
@@ -181,7 +186,7 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
 }
 
 /// An untimed pass with TraversalStats per ray: nodes visited and primitives tested per ray. Not for packet rays:
-/// intersect_packets() takes no statistics.
+/// intersect_packets() and occluded_packets() take no statistics.
 void count_traversal(const SceneContext& ctx, const Accelerator& accel, StructureResult& row) {
   for (std::size_t k = 0; k < ctx.workloads.size(); ++k) {
     const Workload& w = ctx.workloads[k];
@@ -368,6 +373,17 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
       case RayKind::packet:
         for (const std::size_t i : packet_tile_order(args.resolution, args.resolution)) w.rays.push_back(primary[i]);
         break;
+      case RayKind::light_packet: {
+        // The light rays of the primary hits taken in tile order: the same rays as `light`, neighbours together.
+        std::vector<Ray> tiled;
+        std::vector<Hit> tiled_hits;
+        for (const std::size_t i : packet_tile_order(args.resolution, args.resolution)) {
+          tiled.push_back(primary[i]);
+          tiled_hits.push_back(primary_hits[i]);
+        }
+        w.rays = light_rays(scene, tiled, tiled_hits, light_position(scene, camera));
+        break;
+      }
     }
     workloads.push_back(std::move(w));
   }
@@ -470,7 +486,7 @@ Command add_bench_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand("bench", "Compare structures: build time, memory, Mrays/s, traversal cost");
   app->add_option("scenes", args->scenes, "Mesh files or builtin:NAME[:key=value,...]")->required();
   app->add_option("--accel", args->accel, "'all' or a comma list of structure specs")->capture_default_str();
-  app->add_option("--rays", args->rays, "Ray kinds to time: primary, diffuse, shadow, packet (see below)")
+  app->add_option("--rays", args->rays, "Ray kinds to time: primary, diffuse, shadow, packet, ... (see below)")
       ->capture_default_str();
   app->add_option("--res", args->resolution, "Primary rays: an N x N image")->capture_default_str();
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for builds and traces (>= 1)");
@@ -489,8 +505,10 @@ Command add_bench_command(CLI::App& root) {
       "hit to a point light above the scene's center (any hit); packet = the primary\n"
       "rays reordered into 4x2 pixel tiles (tiles left to right, then top to bottom; when N is not a multiple of\n"
       "4, the pixels no whole tile covers follow in row order), each run of eight traced together with\n"
-      "intersect_packets() (one by one by structures without a packet traversal; Embree: rtcIntersect8). Packet\n"
-      "rays have no nodes/prims column: packet traversals take no statistics.\n"
+      "intersect_packets() (one by one by structures without a packet traversal; Embree: rtcIntersect8);\n"
+      "light_packet = the light rays of the primary hits in that tile order (pixels that miss have none), each run\n"
+      "of eight traced together with occluded_packets() (Embree: rtcOccluded8). Packet rays have no nodes/prims\n"
+      "column: packet traversals take no statistics.\n"
       "Memory: 'memory MB' is the structure's own data; 'with input MB' adds the input its queries read (the\n"
       "scene's arrays for rayaccel's structures; for Embree, the vertex and index buffers it was handed).");
   return {app, [args, threads, heat_max] { return run_bench(*args, threads->count() > 0, heat_max->count() > 0); }};

@@ -16,6 +16,7 @@ const char* to_string(RayKind kind) {
     case RayKind::occlusion: return "occlusion";
     case RayKind::light: return "light";
     case RayKind::packet: return "packet";
+    case RayKind::light_packet: return "light_packet";
   }
   return "?";
 }
@@ -86,7 +87,7 @@ void print_table(const SceneReport& report) {
     }
     // Packet traversals take no statistics, so packet rays have no nodes/prims column.
     for (const auto& k : report.rows.front().kinds) {
-      if (k.kind != RayKind::packet) header.push_back(fmt::format("{} nodes/prims", to_string(k.kind)));
+      if (!is_packet_kind(k.kind)) header.push_back(fmt::format("{} nodes/prims", to_string(k.kind)));
     }
   }
   header.push_back("mismatches");
@@ -118,7 +119,7 @@ void print_table(const SceneReport& report) {
       cells.push_back(with_ratio(row.kinds[k].mrays_s_median, reference));
     }
     for (const auto& k : row.kinds) {
-      if (k.kind == RayKind::packet) continue;
+      if (is_packet_kind(k.kind)) continue;
       cells.push_back(k.nodes_per_ray < 0.0 ? std::string("n/a")
                                             : fmt::format("{:.1f}/{:.1f}", k.nodes_per_ray, k.prims_per_ray));
     }

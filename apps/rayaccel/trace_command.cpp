@@ -79,9 +79,6 @@ int run_trace(const TraceArgs& args, bool threads_given) {
     return run_trace_double_checked(args);
   }
   if (!args.offset.empty()) throw UsageError("--offset places the scene in double; it needs --precision double");
-  if (args.packets && args.occlusion) {
-    throw UsageError("--packets traces closest hits (intersect_packets()); it cannot be combined with --occlusion");
-  }
   if (!args.load.empty() && !args.accel.empty()) {
     throw UsageError("--load takes the structure from the file; leave out --accel");
   }
@@ -125,7 +122,13 @@ int run_trace(const TraceArgs& args, bool threads_given) {
           accel->intersect(rays, hits);
         }
       },
-      [&](std::span<std::uint8_t> occluded) { accel->occluded(rays, occluded); },
+      [&](std::span<std::uint8_t> occluded) {
+        if (args.packets) {
+          accel->occluded_packets(rays, occluded);
+        } else {
+          accel->occluded(rays, occluded);
+        }
+      },
       [](const std::string& path, std::span<const Hit> hits) { write_hits(path, hits); });
 
   nlohmann::json summary = trace_summary({
@@ -133,7 +136,8 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       .scene = scene.name(),
       .primitives = scene.primitive_count(),
       .rays = rays.size(),
-      .query = args.occlusion ? "occluded" : args.packets ? "intersect_packets" : "intersect",
+      .query = args.occlusion ? (args.packets ? "occluded_packets" : "occluded")
+                              : (args.packets ? "intersect_packets" : "intersect"),
       .trace_ms = passes.trace_ms,
       .hit_count = passes.hit_count,
       .memory_bytes = accel->memory_bytes(),
@@ -167,8 +171,8 @@ Command add_trace_command(CLI::App& root) {
                   "Structure spec NAME[:key=value,...] (see 'rayaccel list'); default " + default_accelerator_spec());
   app->add_flag("--occlusion", args->occlusion, "Any-hit queries (occluded()); writes a .occ file");
   app->add_flag("--packets", args->packets,
-                "Closest hits of coherent rays, each run of eight consecutive rays traced as one packet "
-                "(intersect_packets(); structures without a packet traversal trace them one by one)");
+                "Coherent rays: each run of eight consecutive rays traced as one packet (intersect_packets(), or "
+                "occluded_packets() with --occlusion; structures without a packet traversal trace them one by one)");
   CLI::Option* threads = app->add_option("--threads", args->threads, "Worker threads for build and trace (>= 1)");
   app->add_option("--repeat", args->repeat, "Timed passes over all rays (median reported)")->capture_default_str();
   app->add_option("--out", args->out, "Output .hits file (.hits64 with --precision double; .occ with --occlusion)");

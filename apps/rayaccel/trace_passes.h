@@ -23,7 +23,7 @@ struct TraceFigures {
   std::string scene;  ///< the scene's name
   std::size_t primitives = 0;
   std::size_t rays = 0;
-  std::string query;  ///< "intersect", "occluded" or "intersect_packets"
+  std::string query;  ///< "intersect", "occluded", "intersect_packets" or "occluded_packets"
   std::vector<double> trace_ms;
   std::size_t hit_count = 0;
   std::size_t memory_bytes = 0;

@@ -156,11 +156,13 @@ class Accelerator(_core._Accelerator):
         return Hits(records, shape, p if points else None, n if normals else None,
                     None if counts is None else TraversalStats(counts, shape))
 
-    def occluded(self, rays, directions=None, t_min=None, t_max=None, *, stats=False, check=True):
+    def occluded(self, rays, directions=None, t_min=None, t_max=None, *, stats=False, packets=False, check=True):
         """Any hit: a bool array shaped like the rays (True: something lies at t_min < t <= t_max). With stats=True,
-        returns (occluded, TraversalStats)."""
+        returns (occluded, TraversalStats). packets=True traces each run of eight rays as one packet
+        (occluded_packets(): for coherent rays, such as shadow rays of neighbouring pixels to one light; the same
+        answers, no statistics)."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
-        answers, counts = self._occluded(flat, bool(stats), bool(check))
+        answers, counts = self._occluded(flat, bool(stats), bool(packets), bool(check))
         answers = answers.reshape(shape)
         return (answers, TraversalStats(counts, shape)) if stats else answers
 

@@ -161,9 +161,10 @@ class PyAccelerator {
   }
 
   /// Any hits: (N,) bool, and (N, 2) uint64 statistics or None.
-  py::tuple occluded(const py::handle& rays_object, bool with_stats, bool check) const {
+  py::tuple occluded(const py::handle& rays_object, bool with_stats, bool packets, bool check) const {
     const auto rays_array = float_rows(rays_object, 8, "rays");
     const std::span<const Ray> rays = ray_view(rays_array);
+    if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
     py::array_t<bool> answers(static_cast<py::ssize_t>(rays.size()));
     py::object stats_array = py::none();
     const std::span<TraversalStats> stats =
@@ -175,8 +176,13 @@ class PyAccelerator {
       std::shared_lock lock(mutex_);
       const Accelerator& accel = require_built();
       trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        accel.occluded(rays.subspan(begin, end - begin), out.subspan(begin, end - begin),
-                       stats.empty() ? stats : stats.subspan(begin, end - begin));
+        const auto block = rays.subspan(begin, end - begin);
+        if (packets) {
+          accel.occluded_packets(block, out.subspan(begin, end - begin));
+        } else {
+          accel.occluded(block, out.subspan(begin, end - begin),
+                         stats.empty() ? stats : stats.subspan(begin, end - begin));
+        }
       });
     }
     return py::make_tuple(answers, stats_array);
@@ -380,7 +386,8 @@ void bind_accelerator(py::module_& m) {
       .def_property_readonly("supports_save", &PyAccelerator::supports_save)
       .def("_intersect", &PyAccelerator::intersect, py::arg("rays"), py::arg("stats"), py::arg("packets"),
            py::arg("check"), py::arg("out"))
-      .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("check"))
+      .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("packets"),
+           py::arg("check"))
       .def("_surface", &PyAccelerator::surface, py::arg("rays"), py::arg("records"))
       .def("_all_hits", &PyAccelerator::all_hits, py::arg("rays"), py::arg("max_hits"), py::arg("check"))
       .def("_count_hits", &PyAccelerator::count_hits, py::arg("rays"), py::arg("check"))

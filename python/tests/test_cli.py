@@ -38,6 +38,9 @@ def test_hits_equal_the_cli(cli, tmp_path, scene_spec, spec):
     trace(cli, scene_spec, rays_path, tmp_path / "packets.hits", "--accel", spec, "--packets")
     assert accel.intersect(rays, packets=True).tobytes() == (tmp_path / "packets.hits").read_bytes()
 
+    trace(cli, scene_spec, rays_path, tmp_path / "packets.occ", "--accel", spec, "--occlusion", "--packets")
+    assert accel.occluded(rays, packets=True).tobytes() == (tmp_path / "packets.occ").read_bytes()
+
 
 def test_mesh_file_equals_the_cli(cli, tmp_path):
     rng = np.random.default_rng(11)

@@ -95,6 +95,21 @@ def test_packets_give_the_same_hits(soup):
     assert (a.prim_id == b.prim_id).mean() > 0.99  # a tie in t may name another primitive
 
 
+def test_occlusion_packets_give_the_same_answers(soup):
+    accel = rayaccel.build(soup, "bvh_wide")
+    camera = rayaccel.Camera.framing(soup).rays(40, 24).reshape(-1, 8)
+    order = rayaccel.packet_tile_order(40, 24)
+    rays = camera[order]
+    hits = accel.intersect(rays)
+    rays[1::2, 7] = np.where(hits.hit[1::2], hits.t[1::2] * 0.5, np.inf)  # every other ray ends before its hit
+    single = accel.occluded(rays)
+    assert 0 < single.sum() < len(rays)
+    np.testing.assert_array_equal(accel.occluded(rays, packets=True), single)
+    np.testing.assert_array_equal(accel.occluded(rays[:-3], packets=True), single[:-3])  # a partial last packet
+    with pytest.raises(ValueError, match="packets=True gives no per-ray statistics"):
+        accel.occluded(rays, packets=True, stats=True)
+
+
 def test_threads_and_gil(soup):
     accel = rayaccel.build(soup, "bvh_wide")
     rays = random_rays(soup, 20000)

@@ -71,10 +71,8 @@ void to_embree(const Ray& ray, RTCRay& out) {
   out.flags = 0;
 }
 
-/// Fills lane `lane` of an RTCRayHit8 from a ray that is not void with t_min < t_max, as to_embree() does, with no
-/// hit recorded yet.
-void to_embree(const Ray& ray, RTCRayHit8& out, int lane) {
-  RTCRay8& r = out.ray;
+/// Fills lane `lane` of an RTCRay8 from a ray that is not void with t_min < t_max, as to_embree() does.
+void to_embree(const Ray& ray, RTCRay8& r, int lane) {
   r.org_x[lane] = ray.origin.x;
   r.org_y[lane] = ray.origin.y;
   r.org_z[lane] = ray.origin.z;
@@ -87,6 +85,11 @@ void to_embree(const Ray& ray, RTCRayHit8& out, int lane) {
   r.mask[lane] = 0xFFFFFFFFu;
   r.id[lane] = 0;
   r.flags[lane] = 0;
+}
+
+/// Fills lane `lane` of an RTCRayHit8 the same way, with no hit recorded yet.
+void to_embree(const Ray& ray, RTCRayHit8& out, int lane) {
+  to_embree(ray, out.ray, lane);
   out.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
   out.hit.primID[lane] = RTC_INVALID_GEOMETRY_ID;
 }
@@ -94,6 +97,22 @@ void to_embree(const Ray& ray, RTCRayHit8& out, int lane) {
 /// Rays that can hold no hit under t_min < t <= t_max: void rays (PreparedRay's rule, without PreparedRay's divisions,
 /// which would be charged to Embree's time) and empty intervals.
 bool cannot_hit(const Ray& ray) { return !is_valid_ray(ray) || !(ray.t_min < ray.t_max); }
+
+/// Fills the lanes of `packet` (an RTCRay8 or RTCRayHit8) from `rays` (at most eight): valid[lane] is -1 for a lane
+/// that is filled, 0 for one past the rays or whose ray cannot hit (inactive). Returns whether any lane is active.
+template <class Packet>
+bool fill_packet(std::span<const Ray> rays, int* valid, Packet& packet) {
+  bool any = false;
+  for (std::size_t lane = 0; lane < detail::kPacketSize; ++lane) {
+    const bool active = lane < rays.size() && !cannot_hit(rays[lane]);
+    valid[lane] = active ? -1 : 0;
+    if (active) {
+      to_embree(rays[lane], packet, static_cast<int>(lane));
+      any = true;
+    }
+  }
+  return any;
+}
 
 }  // namespace
 
@@ -249,16 +268,7 @@ void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<H
     RTCRayHit8 query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
     for (std::size_t first = begin; first < end; first += kLanes) {
       const std::size_t count = std::min(kLanes, end - first);
-      bool any = false;
-      for (std::size_t lane = 0; lane < kLanes; ++lane) {
-        const bool active = lane < count && !cannot_hit(rays[first + lane]);
-        valid[lane] = active ? -1 : 0;
-        if (active) {
-          to_embree(rays[first + lane], query, static_cast<int>(lane));
-          any = true;
-        }
-      }
-      if (any) rtcIntersect8(valid, state_->scene, &context, &query);
+      if (fill_packet(rays.subspan(first, count), valid, query)) rtcIntersect8(valid, state_->scene, &context, &query);
       // Each record written whole and once, as rayaccel's packet traversal writes its own (a miss is Hit{}).
       for (std::size_t lane = 0; lane < count; ++lane) {
         Hit hit;
@@ -269,6 +279,34 @@ void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<H
           hit.v = query.hit.v[lane];
         }
         hits[first + lane] = hit;
+      }
+    }
+  });
+}
+
+void EmbreeAccelerator::occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out) const {
+  detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
+  constexpr std::size_t kLanes = detail::kPacketSize;
+  static_assert(kLanes == 8, "one rtcOccluded8 call per packet");
+  detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
+    const auto out = occluded_out.begin();
+    if (!state_->scene) {
+      std::fill(out + static_cast<std::ptrdiff_t>(begin), out + static_cast<std::ptrdiff_t>(end), 0);
+      return;
+    }
+    const EmbreeFloatMode mode;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[kLanes];
+    RTCRay8 query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
+    for (std::size_t first = begin; first < end; first += kLanes) {
+      const std::size_t count = std::min(kLanes, end - first);
+      if (fill_packet(rays.subspan(first, count), valid, query)) rtcOccluded8(valid, state_->scene, &context, &query);
+      // Embree marks an occluded lane by tfar = -inf (as rtcOccluded1, see occluded()).
+      for (std::size_t lane = 0; lane < count; ++lane) {
+        occluded_out[first + lane] =
+            valid[lane] != 0 && query.tfar[lane] == -std::numeric_limits<float>::infinity() ? 1 : 0;
       }
     }
   });

@@ -2,11 +2,14 @@
 // "Interactive rendering with coherent ray tracing"; for wide nodes, the packet-per-child test of Embree's hybrid
 // traversal, Wald et al. 2014). Each child box is tested against all eight rays in one pass of AVX2 lanes, with the
 // same float operations per lane as the single-ray box test (so a lane meets exactly the boxes its ray would); the
-// packet descends into every child some ray meets, nearest (smallest entry of the rays that meet it) first, and keeps
-// per-ray entry distances on its stack so each ray is culled by its own closest hit. Leaves are tested one triangle
-// against the rays that met the leaf's box, each lane doing the watertight kernel's float operations for its ray, so
-// every answer is a closest hit of the same kernel (a tie in t may keep another primitive than the single-ray order
-// would). Packets the fast path does not cover (rays of different axes in the triangle test, t_min < 0, subnormal
+// closest-hit packet descends into every child some ray meets, nearest (smallest entry of the rays that meet it)
+// first, and keeps per-ray entry distances on its stack so each ray is culled by its own closest hit. Leaves are
+// tested one triangle against the rays that met the leaf's box, each lane doing the watertight kernel's float
+// operations for its ray, so every answer is a closest hit of the same kernel (a tie in t may keep another primitive
+// than the single-ray order would). The any-hit packet (occluded_packets(), the counterpart of Embree's
+// rtcOccluded8) shares the box and triangle tests: its far bounds never shrink, children are taken in lane order as
+// in the single-ray any-hit traversal, and a ray leaves the packet at its first hit, the traversal ending when none
+// is left. Packets the fast path does not cover (rays of different axes in the triangle test, t_min < 0, subnormal
 // origin coordinates) are traced ray by ray.
 #include <algorithm>
 #include <array>
@@ -28,7 +31,7 @@ namespace {
 // packet size, the lane count and the node width are the same number.
 using PacketLanesSet = simd::Avx8;
 constexpr int kPacketSize = PacketLanesSet::kWidth;
-static_assert(kPacketSize == static_cast<int>(detail::kPacketSize), "a packet of intersect_packets() fills the lanes");
+static_assert(kPacketSize == static_cast<int>(detail::kPacketSize), "a packet of the batch calls fills the lanes");
 static_assert(sizeof(Node<kPacketSize>::child) / sizeof(std::uint32_t) == kPacketSize, "one child a lane");
 
 /// A ray that is void (see PreparedRay): the lanes of a last, partial packet.
@@ -133,7 +136,7 @@ struct PacketLanes {
 
 }  // namespace
 
-template <class S>
+template <class S, bool AnyHit>
 RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
   using F = typename S::F;
   std::array<Ray, kPacketSize> padded;  // a last, partial packet: void rays in the missing lanes
@@ -151,7 +154,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
     // packets): ray by ray, with the single-ray traversal.
     const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays, std::make_index_sequence<8>{});
     for (int i = 0; i < kPacketSize; ++i) {
-      if (lanes_in.active >> i & 1) traverse<BoxKernel<S>, false>(nodes8_, root_, prepared[i], hit[i], none);
+      if (lanes_in.active >> i & 1) traverse<BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], none);
     }
   } else if (lanes_in.active) {
     // With the same direction signs in every active ray (coherent packets almost always), each axis's near plane is
@@ -172,98 +175,167 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
       const F down = S::set1(kSlabWidenDown), up = S::set1(kSlabWidenUp);
       F far_bound = S::load(lanes_in.far);
 
-      struct alignas(32) Entry {
-        float t_entry[kPacketSize];  ///< each ray's entry distance into the subtree (meaningful in `lanes` only)
-        std::uint32_t ref;
-        int lanes;  ///< the rays that met the subtree's box
+      // Child c of `node` against the rays of `lane_mask` (within far_bound): returns the rays that meet its box, in
+      // `meets` as lanes too, and each lane's entry distance in t_near.
+      const auto meet_child = [&](const Node<kPacketSize>& node, int c, const F& lane_mask, F& t_near, F& meets)
+                                  RAYACCEL_LANE_LAMBDA {
+        t_near = t_min;
+        F t_far = far_bound;
+        for (int a = 0; a < 3; ++a) {
+          F near_plane, far_plane;
+          if constexpr (kSameSigns) {
+            near_plane = S::broadcast(&node.bounds[a][near_offset[a]][c]);
+            far_plane = S::broadcast(&node.bounds[a][1 - near_offset[a]][c]);
+          } else {
+            const F lo = S::broadcast(&node.bounds[a][0][c]);
+            const F hi = S::broadcast(&node.bounds[a][1][c]);
+            near_plane = S::blend(lo, hi, near_is_hi[a]);
+            far_plane = S::blend(hi, lo, near_is_hi[a]);
+          }
+          const F t0 = S::mul(S::sub(near_plane, o[a]), inv[a]);
+          const F t1 = S::mul(S::sub(far_plane, o[a]), inv[a]);
+          t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound, as in BoxKernel::intersect
+          t_far = S::min(t1, t_far);
+        }
+        t_near = S::mul(t_near, down);
+        t_far = S::mul(t_far, up);
+        meets = S::bit_and(S::le(t_near, t_far), lane_mask);
+        return S::movemask(meets);
       };
-      Entry stack[kStackSize];
-      int top = 0;
-      std::uint32_t ref = root_;
-      int lanes = lanes_in.active;
-      F entry = t_min;
-      for (;;) {
-        if (ref & kLeafBit) {
-          // One triangle against the rays that met the leaf's box and have not hit anything nearer.
-          const int leaf_rays = lanes & S::movemask(S::le(entry, far_bound));
-          if (leaf_rays) {
-            const std::uint32_t end = leaf_first_block(ref) + leaf_block_count(ref);
-            for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
-              const Triangle4& block = blocks_[b];
-              for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
-                intersect_triangle_rays<S>(lanes_in.triangle, rays, leaf_rays, lanes_in.axes, block, j,
-                                           hit.data(), far_bound);
-              }
-            }
-          }
-        } else {
-          const Node<kPacketSize>& node = nodes8_[ref];
-          const F lane_mask = S::lanes_from_bits(lanes);
-          // The children met, in order of their nearest entry.
-          alignas(32) float child_entry[kPacketSize][kPacketSize];
-          float nearest[kPacketSize];
-          int child_lanes[kPacketSize];
-          int met[kPacketSize];
-          int met_count = 0;
-          for (int c = 0; c < kPacketSize && node.child[c] != kEmptyChild; ++c) {
-            F t_near = t_min;
-            F t_far = far_bound;
-            for (int a = 0; a < 3; ++a) {
-              F near_plane, far_plane;
-              if constexpr (kSameSigns) {
-                near_plane = S::broadcast(&node.bounds[a][near_offset[a]][c]);
-                far_plane = S::broadcast(&node.bounds[a][1 - near_offset[a]][c]);
-              } else {
-                const F lo = S::broadcast(&node.bounds[a][0][c]);
-                const F hi = S::broadcast(&node.bounds[a][1][c]);
-                near_plane = S::blend(lo, hi, near_is_hi[a]);
-                far_plane = S::blend(hi, lo, near_is_hi[a]);
-              }
-              const F t0 = S::mul(S::sub(near_plane, o[a]), inv[a]);
-              const F t1 = S::mul(S::sub(far_plane, o[a]), inv[a]);
-              t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound, as in BoxKernel::intersect
-              t_far = S::min(t1, t_far);
-            }
-            t_near = S::mul(t_near, down);
-            t_far = S::mul(t_far, up);
-            const F meets = S::bit_and(S::le(t_near, t_far), lane_mask);
-            const int bits = S::movemask(meets);
-            if (!bits) continue;
-            S::store(child_entry[c], t_near);
-            const float d = S::horizontal_min(S::blend(S::set1(std::numeric_limits<float>::infinity()), t_near, meets));
-            // Insertion by nearest entry, farthest first, so the nearest is taken from the end.
-            int k = met_count++;
-            for (; k > 0 && nearest[met[k - 1]] < d; --k) met[k] = met[k - 1];
-            met[k] = c;
-            nearest[c] = d;
-            child_lanes[c] = bits;
-          }
-          if (met_count > 0) {
-            for (int k = 0; k < met_count - 1; ++k) {
-              const int c = met[k];
-              Entry& e = stack[top++];
-              S::store(e.t_entry, S::load(child_entry[c]));
-              e.ref = node.child[c];
-              e.lanes = child_lanes[c];
-            }
-            const int c = met[met_count - 1];
-            ref = node.child[c];
-            lanes = child_lanes[c];
-            entry = S::load(child_entry[c]);
-            continue;
+      // Every triangle of leaf `ref` against the rays of `leaf_rays`; returns the rays whose hit changed. Any-hit
+      // drops a ray from the remaining triangles at its first hit and stops when every ray of the leaf has one.
+      const auto test_leaf = [&](std::uint32_t ref, int leaf_rays) RAYACCEL_LANE_LAMBDA {
+        int found = 0;
+        const std::uint32_t end = leaf_first_block(ref) + leaf_block_count(ref);
+        for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
+          const Triangle4& block = blocks_[b];
+          for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
+            const int testing = AnyHit ? leaf_rays & ~found : leaf_rays;
+            found |= intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j, hit.data(),
+                                                far_bound);
+            if (AnyHit && found == leaf_rays) return found;
           }
         }
-        // Pop the next subtree that some ray still needs: entered before that ray's closest hit.
+        return found;
+      };
+
+      if constexpr (AnyHit) {
+        // Any hit: a ray's far bound stays Hit::begin's until its first hit, when it leaves the packet (`live`), so
+        // nothing on the stack is culled by distance: entries hold the rays that met the subtree's box, and the
+        // children met are taken in lane order (the first entered, the others pushed), as in the single-ray any-hit
+        // traversal.
+        struct Entry {
+          std::uint32_t ref;
+          int lanes;
+        };
+        Entry stack[kStackSize];
+        int top = 0;
+        int live = lanes_in.active;
+        std::uint32_t ref = root_;
+        int lanes = live;
         for (;;) {
-          if (top == 0) return;
-          const Entry& e = stack[--top];
-          const F e_entry = S::load(e.t_entry);
-          const int still = e.lanes & S::movemask(S::le(e_entry, far_bound));
-          if (still) {
-            ref = e.ref;
-            lanes = still;
-            entry = e_entry;
-            break;
+          if (ref & kLeafBit) {
+            live &= ~test_leaf(ref, lanes);
+            if (!live) return;
+          } else {
+            const Node<kPacketSize>& node = nodes8_[ref];
+            const F lane_mask = S::lanes_from_bits(lanes);
+            int next_lanes = 0;
+            std::uint32_t next = 0;
+            for (int c = 0; c < kPacketSize && node.child[c] != kEmptyChild; ++c) {
+              F t_near, meets;
+              const int bits = meet_child(node, c, lane_mask, t_near, meets);
+              if (!bits) continue;
+              if (next_lanes) {
+                stack[top++] = {node.child[c], bits};
+              } else {
+                next = node.child[c];
+                next_lanes = bits;
+              }
+            }
+            if (next_lanes) {
+              ref = next;
+              lanes = next_lanes;
+              continue;
+            }
+          }
+          // Pop the next subtree that some ray still in the packet met.
+          for (;;) {
+            if (top == 0) return;
+            const Entry& e = stack[--top];
+            if (e.lanes & live) {
+              ref = e.ref;
+              lanes = e.lanes & live;
+              break;
+            }
+          }
+        }
+      } else {
+        struct alignas(32) Entry {
+          float t_entry[kPacketSize];  ///< each ray's entry distance into the subtree (meaningful in `lanes` only)
+          std::uint32_t ref;
+          int lanes;  ///< the rays that met the subtree's box
+        };
+        Entry stack[kStackSize];
+        int top = 0;
+        std::uint32_t ref = root_;
+        int lanes = lanes_in.active;
+        F entry = t_min;
+        for (;;) {
+          if (ref & kLeafBit) {
+            // The rays that met the leaf's box and have not hit anything nearer.
+            const int leaf_rays = lanes & S::movemask(S::le(entry, far_bound));
+            if (leaf_rays) test_leaf(ref, leaf_rays);
+          } else {
+            const Node<kPacketSize>& node = nodes8_[ref];
+            const F lane_mask = S::lanes_from_bits(lanes);
+            // The children met, in order of their nearest entry.
+            alignas(32) float child_entry[kPacketSize][kPacketSize];
+            float nearest[kPacketSize];
+            int child_lanes[kPacketSize];
+            int met[kPacketSize];
+            int met_count = 0;
+            for (int c = 0; c < kPacketSize && node.child[c] != kEmptyChild; ++c) {
+              F t_near, meets;
+              const int bits = meet_child(node, c, lane_mask, t_near, meets);
+              if (!bits) continue;
+              S::store(child_entry[c], t_near);
+              const float d =
+                  S::horizontal_min(S::blend(S::set1(std::numeric_limits<float>::infinity()), t_near, meets));
+              // Insertion by nearest entry, farthest first, so the nearest is taken from the end.
+              int k = met_count++;
+              for (; k > 0 && nearest[met[k - 1]] < d; --k) met[k] = met[k - 1];
+              met[k] = c;
+              nearest[c] = d;
+              child_lanes[c] = bits;
+            }
+            if (met_count > 0) {
+              for (int k = 0; k < met_count - 1; ++k) {
+                const int c = met[k];
+                Entry& e = stack[top++];
+                S::store(e.t_entry, S::load(child_entry[c]));
+                e.ref = node.child[c];
+                e.lanes = child_lanes[c];
+              }
+              const int c = met[met_count - 1];
+              ref = node.child[c];
+              lanes = child_lanes[c];
+              entry = S::load(child_entry[c]);
+              continue;
+            }
+          }
+          // Pop the next subtree that some ray still needs: entered before that ray's closest hit.
+          for (;;) {
+            if (top == 0) return;
+            const Entry& e = stack[--top];
+            const F e_entry = S::load(e.t_entry);
+            const int still = e.lanes & S::movemask(S::le(e_entry, far_bound));
+            if (still) {
+              ref = e.ref;
+              lanes = still;
+              entry = e_entry;
+              break;
+            }
           }
         }
       }
@@ -282,26 +354,56 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
 RAYACCEL_LANE_CODE_END
 #endif  // RAYACCEL_AVX_KERNELS
 
-void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
-  // Eight-wide nodes exist only in builds with the eight-lane kernels (simd/isa.h).
-  if (!RAYACCEL_AVX_KERNELS || width_ != 8 || !triangles_ || root_ == kEmptyChild) {
-    intersect(rays, hits);  // no packet traversal for four-wide nodes or other primitives: one by one
-    return;
-  }
+namespace {
+
+/// Runs packet(first, count) for every packet of a batch of `rays` (count <= 8 rays from rays[first]), in parallel
+/// chunks of whole packets, with the eight-lane kernels of `isa` (avx2 or avx512: eight-wide nodes) as template
+/// argument.
+template <class Packet>
+void for_each_packet(std::span<const Ray> rays, simd::Isa isa, const Packet& packet) {
 #if RAYACCEL_AVX_KERNELS
-  detail::check_batch_sizes(rays.size(), hits.size(), 0);
   detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t first = begin; first < end; first += detail::kPacketSize) {
       const int count = static_cast<int>(std::min(detail::kPacketSize, end - first));
-      // isa_ is avx2 or avx512 with eight-wide nodes: the lanes are Avx8.
-      simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
-        if constexpr (std::is_same_v<Lanes, PacketLanesSet>) {
-          trace_packet<Lanes>(rays.data() + first, count, hits.data() + first);
-        }
+      simd::run_with_lanes(isa, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+        if constexpr (std::is_same_v<Lanes, PacketLanesSet>) packet.template operator()<Lanes>(first, count);
       });
     }
   });
+#else
+  (void)rays, (void)isa, (void)packet;
 #endif
+}
+
+}  // namespace
+
+bool WideBvh::has_packet_traversal() const {
+  // Eight-wide nodes exist only in builds with the eight-lane kernels (simd/isa.h).
+  return RAYACCEL_AVX_KERNELS && width_ == 8 && triangles_ && root_ != kEmptyChild;
+}
+
+void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (!has_packet_traversal()) {
+    intersect(rays, hits);  // no packet traversal for four-wide nodes or other primitives: one by one
+    return;
+  }
+  detail::check_batch_sizes(rays.size(), hits.size(), 0);
+  for_each_packet(rays, isa_, [&]<class Lanes>(std::size_t first, int count) RAYACCEL_LANE_LAMBDA {
+    trace_packet<Lanes, false>(rays.data() + first, count, hits.data() + first);
+  });
+}
+
+void WideBvh::occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out) const {
+  if (!has_packet_traversal()) {
+    occluded(rays, occluded_out);  // one by one, as intersect_packets()
+    return;
+  }
+  detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
+  for_each_packet(rays, isa_, [&]<class Lanes>(std::size_t first, int count) RAYACCEL_LANE_LAMBDA {
+    std::array<Hit, detail::kPacketSize> hits;
+    trace_packet<Lanes, true>(rays.data() + first, count, hits.data());
+    for (int i = 0; i < count; ++i) occluded_out[first + i] = hits[i].found() ? 1 : 0;
+  });
 }
 
 }  // namespace rayaccel::wide

@@ -2,7 +2,7 @@
 // deliberately wrong ones fail it: another primitive at a nearly equal t, a hit/miss flip, every 10th hit dropped, a
 // neighbouring primitive, and t, u, v that are not the kernel's. With and without Embree as the reference, with a
 // reference that is wrong the same way as the structure (the brute-force sample catches it), and Embree's own row
-// under the foreign-kernel rule.
+// under the foreign-kernel rule. Light packet workloads are checked through occluded_packets().
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,10 +17,13 @@
 namespace rayaccel::cli {
 namespace {
 
-/// Brute force's answers passed through `corrupt` (ray index, hit): a structure that is wrong on purpose.
+/// Brute force's answers passed through `corrupt` (ray index, hit), and its occluded_packets() answers through
+/// `corrupt_packets` (position in the batch, answer): a structure that is wrong on purpose.
 class CorruptedBruteForce final : public Accelerator {
  public:
-  explicit CorruptedBruteForce(std::function<void(const Ray&, Hit&)> corrupt) : corrupt_(std::move(corrupt)) {}
+  explicit CorruptedBruteForce(std::function<void(const Ray&, Hit&)> corrupt,
+                               std::function<void(std::size_t, std::uint8_t&)> corrupt_packets = {})
+      : corrupt_(std::move(corrupt)), corrupt_packets_(std::move(corrupt_packets)) {}
   void build(const Scene& scene) override { oracle_.build(scene); }
   Hit intersect(const Ray& ray) const override {
     Hit h = oracle_.intersect(ray);
@@ -36,12 +39,19 @@ class CorruptedBruteForce final : public Accelerator {
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out, std::span<TraversalStats>) const override {
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
   }
+  void occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> out) const override {
+    occluded(rays, out, {});
+    if (corrupt_packets_) {
+      for (std::size_t i = 0; i < rays.size(); ++i) corrupt_packets_(i, out[i]);
+    }
+  }
   std::size_t memory_bytes() const override { return 0; }
   std::vector<std::string> validate() const override { return {}; }
 
  private:
   BruteForce oracle_;
   std::function<void(const Ray&, Hit&)> corrupt_;
+  std::function<void(std::size_t, std::uint8_t&)> corrupt_packets_;
 };
 
 /// Two parallel unit squares facing the rays, at z = 0 (prims 0, 1) and z = -0.00005 (prims 2, 3): from z = 1 the
@@ -150,6 +160,38 @@ TEST(BenchCheck, EmbreesOwnRowIsCheckedAsAForeignKernel) {
   // Another kernel's rounding in t is allowed; a t 0.1% off is not.
   EXPECT_EQ(corrupted([](const Ray&, Hit& h) { h.t = std::nextafter(h.t, 0.0f); }), 0u);
   EXPECT_EQ(corrupted([](const Ray&, Hit& h) { h.t *= 1.001f; }), 64u);
+}
+#endif
+
+/// Light packet workloads are traced with occluded_packets(): a structure whose packets flip the first ray of every
+/// packet fails there (8 of the 64 rays) while its single-ray answers pass as light rays.
+void expect_check_catches_wrong_occlusion_packets(const Accelerator* embree) {
+  const Scene scene = two_close_layers();
+  std::vector<Workload> workloads = straight_down_rays();
+  CorruptedBruteForce accel([](const Ray&, Hit&) {}, [](std::size_t i, std::uint8_t& o) {
+    if (i % 8 == 0) o ^= 1;
+  });
+  accel.build(scene);
+  workloads[0].kind = RayKind::light_packet;
+  EXPECT_EQ(mismatches(accel, scene, workloads, embree), 8u);
+  workloads[0].kind = RayKind::light;
+  EXPECT_EQ(mismatches(accel, scene, workloads, embree), 0u);
+  CorruptedBruteForce honest([](const Ray&, Hit&) {});
+  honest.build(scene);
+  workloads[0].kind = RayKind::light_packet;
+  EXPECT_EQ(mismatches(honest, scene, workloads, embree), 0u) << "an honest structure passes";
+}
+
+TEST(BenchCheck, CatchesWrongOcclusionPacketsAgainstBruteForce) {
+  expect_check_catches_wrong_occlusion_packets(nullptr);
+}
+
+#ifdef RAYACCEL_HAVE_EMBREE
+TEST(BenchCheck, CatchesWrongOcclusionPacketsAgainstEmbree) {
+  EmbreeAccelerator embree;
+  const Scene scene = two_close_layers();
+  embree.build(scene);
+  expect_check_catches_wrong_occlusion_packets(&embree);
 }
 #endif
 

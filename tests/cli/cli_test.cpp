@@ -211,6 +211,22 @@ TEST(CliTrace, OcclusionWritesOccFile) {
   EXPECT_EQ(summary["hit_count"], std::count(expected.begin(), expected.end(), std::uint8_t{1}));
 }
 
+TEST(CliTrace, OcclusionPacketsGiveWhatBruteForceDecides) {
+  const SmallCase c = make_small_case();
+  const auto out = c.dir / "packets.occ";
+  const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "bvh_wide", "--occlusion",
+                               "--packets", "--repeat", "1", "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const Scene scene = load_scene(c.ply.string());
+  BruteForce oracle;
+  oracle.build(scene);
+  const std::vector<Ray> rays = read_rays(c.rays);
+  std::vector<std::uint8_t> expected(rays.size());
+  oracle.occluded(rays, expected);
+  EXPECT_EQ(read_occlusion(out), expected);
+  EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(result.out))["query"], "occluded_packets");
+}
+
 TEST(Cli, VersionPrintsTheVersionHeader) {
   const auto result = run_cli({"--version"});
   ASSERT_EQ(result.exit_code, 0) << result.err;
@@ -264,7 +280,6 @@ TEST(CliErrors, BadArgumentsNameTheValue) {
       {{"trace", ply, rays, "--threads", "0"}, "--threads", 2},
       {{"trace", ply, rays, "--threads", "many"}, "many", 2},
       {{"trace", ply, rays, "--repeat", "0"}, "--repeat", 2},
-      {{"trace", ply, rays, "--packets", "--occlusion"}, "--packets", 2},
       {{"trace", ply, rays, "--no-such-option"}, "--no-such-option", 2},
       {{"trace", (c.dir / "missing.ply").string(), rays}, "missing.ply", 2},
       {{"trace", ply, (c.dir / "missing.rays").string()}, "missing.rays", 1},
@@ -356,21 +371,22 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
   const auto result = run_cli(args);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("brute_force"), std::string::npos) << result.out;
-  // The default ray kinds, in the table's order: Mrays/s per kind, then nodes/prims per kind except packet.
+  // The default ray kinds, in the table's order: Mrays/s per kind, then nodes/prims per kind except the packet ones.
   std::size_t at = 0;
   for (const char* column : {"primary Mrays/s", "diffuse Mrays/s", "shadow Mrays/s", "occlusion Mrays/s",
-                             "light Mrays/s", "packet Mrays/s", "primary nodes/prims", "diffuse nodes/prims",
+                             "light Mrays/s", "packet Mrays/s", "light_packet Mrays/s", "primary nodes/prims",
+                             "diffuse nodes/prims",
                              "shadow nodes/prims", "occlusion nodes/prims", "light nodes/prims", "mismatches"}) {
     const std::size_t found = result.out.find(column, at);
     ASSERT_NE(found, std::string::npos) << column << " after column " << at << " in\n" << result.out;
     at = found;
   }
-  EXPECT_EQ(result.out.find("packet nodes/prims"), std::string::npos) << result.out;
+  EXPECT_EQ(result.out.find("packet nodes/prims"), std::string::npos) << result.out;  // light_packet's included
   const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
   const auto& rows = report["scenes"][0]["results"];
   bool saw_brute_force = false;
   for (const auto& row : rows) {
-    EXPECT_EQ(row["rays"].size(), 6u) << row.dump();
+    EXPECT_EQ(row["rays"].size(), 7u) << row.dump();
     if (row["accel"] != "brute_force") continue;
     saw_brute_force = true;
     EXPECT_EQ(row["mismatches"], 0);
@@ -384,6 +400,11 @@ TEST(CliBench, SmallRunWritesJsonAndImages) {
     EXPECT_EQ(row["rays"]["packet"]["mismatches"], 0);
     EXPECT_GT(row["rays"]["packet"]["mrays_s_median"].get<double>(), 0.0);
     EXPECT_FALSE(row["rays"]["packet"].contains("nodes_per_ray")) << "packet traversals take no statistics";
+    // The light rays in tile order: as many as the light kind's (one per primary hit), checked like them.
+    EXPECT_EQ(row["rays"]["light_packet"]["rays"], row["rays"]["light"]["rays"]);
+    EXPECT_GT(row["rays"]["light_packet"]["checked"].get<int>(), 0);
+    EXPECT_EQ(row["rays"]["light_packet"]["mismatches"], 0);
+    EXPECT_FALSE(row["rays"]["light_packet"].contains("nodes_per_ray"));
   }
   EXPECT_TRUE(saw_brute_force);
   // Memory on the same terms for every row: the structure's own bytes, and the input its queries read.

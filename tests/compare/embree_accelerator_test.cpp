@@ -1,6 +1,6 @@
 // Tests of the Embree comparison wrapper: it agrees with brute force (t within Embree's kernel tolerance), maps
-// misses and void rays to this library's miss record, gives the same answers through rtcIntersect8 packets as one
-// ray at a time, measures its memory, and refuses non-triangle scenes.
+// misses and void rays to this library's miss record, gives the same answers through rtcIntersect8 and rtcOccluded8
+// packets as one ray at a time, measures its memory, and refuses non-triangle scenes.
 #include "rayaccel/compare/embree_accelerator.h"
 
 #ifdef RAYACCEL_HAVE_EMBREE
@@ -127,16 +127,19 @@ TEST(EmbreeAccelerator, HonoursTheHitInterval) {
   EXPECT_FALSE(embree.occluded(short_ray));
 }
 
-TEST(EmbreeAccelerator, PacketsAgreeWithSingleRays) {
-  const Scene scene = make_builtin_scene("default");
-  EmbreeAccelerator embree(EmbreeOptions{2, EmbreeBuildQuality::medium});
-  embree.build(scene);
-  // Camera rays of a 61 x 37 image (2257 rays), with void, empty-interval and t_min-raised rays spliced in at
-  // positions that fall in different lanes, and a packet of void rays: 2273 rays, so the last packet is partial.
+/// Rays for the packet tests: camera rays of a 61 x 37 image (2257 rays), with void, empty-interval and t_min-raised
+/// rays (`odd`, all but the one at 300 unable to hit) spliced in at positions that fall in different lanes, and a
+/// packet of void rays at 400: 2273 rays, so the last packet is partial.
+struct PacketRays {
+  std::vector<Ray> rays;
+  std::vector<std::pair<std::size_t, Ray>> odd;
+};
+
+PacketRays packet_rays(const Scene& scene) {
   std::vector<Ray> rays = primary_rays(Camera::framing(scene.bounds()), 61, 37);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  const std::vector<std::pair<std::size_t, Ray>> odd = {
+  std::vector<std::pair<std::size_t, Ray>> odd = {
       {0, {{nan, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, inf}},
       {9, {rays[9].origin, 0.0f, {0.0f, 0.0f, 0.0f}, inf}},        // zero direction
       {18, {rays[18].origin, 0.0f, {inf, 0.0f, 1.0f}, inf}},       // infinite direction
@@ -149,6 +152,15 @@ TEST(EmbreeAccelerator, PacketsAgreeWithSingleRays) {
   for (const auto& [at, ray] : odd) rays.insert(rays.begin() + static_cast<std::ptrdiff_t>(at), ray);
   // Eight void rays make a whole packet with no active lane (after the odd rays, so their positions hold).
   rays.insert(rays.begin() + 400, 8, Ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, inf});
+  return {std::move(rays), std::move(odd)};
+}
+
+TEST(EmbreeAccelerator, PacketsAgreeWithSingleRays) {
+  const Scene scene = make_builtin_scene("default");
+  EmbreeAccelerator embree(EmbreeOptions{2, EmbreeBuildQuality::medium});
+  embree.build(scene);
+  const auto [rays, odd] = packet_rays(scene);
+  const float inf = std::numeric_limits<float>::infinity();
   ASSERT_NE(rays.size() % 8, 0u);
 
   std::vector<Hit> packets(rays.size()), batch(rays.size());
@@ -184,6 +196,40 @@ TEST(EmbreeAccelerator, PacketsAgreeWithSingleRays) {
   embree.intersect_packets({}, {});
 }
 
+TEST(EmbreeAccelerator, OccludedPacketsAgreeWithSingleRays) {
+  const Scene scene = make_builtin_scene("default");
+  EmbreeAccelerator embree(EmbreeOptions{2, EmbreeBuildQuality::medium});
+  embree.build(scene);
+  auto [rays, odd] = packet_rays(scene);
+  // Half the camera rays end halfway to their hit or earlier, so some rays that hit are not occluded.
+  std::vector<Hit> hits(rays.size());
+  embree.intersect(rays, hits);
+  for (std::size_t i = 1; i < rays.size(); i += 2) {
+    if (hits[i].found()) rays[i].t_max = 0.5f * hits[i].t;
+  }
+  std::vector<std::uint8_t> packets(rays.size(), 2), batch(rays.size());  // 2: never written
+  embree.occluded_packets(rays, packets);
+  embree.occluded(rays, batch);
+  std::size_t occluded = 0, shortened = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_EQ(packets[i], batch[i]) << "ray " << i;
+    EXPECT_EQ(packets[i], embree.occluded(rays[i]) ? 1 : 0) << "ray " << i;
+    occluded += packets[i];
+    shortened += i % 2 == 1 && hits[i].found() ? 1 : 0;
+  }
+  EXPECT_GT(occluded, rays.size() / 40) << "the camera should see the scene";
+  EXPECT_GT(shortened, 0u);
+  for (const auto& [at, ray] : odd) {
+    if (at != 300) {
+      EXPECT_EQ(packets[at], 0) << "ray " << at;
+    }
+  }
+  for (std::size_t i = 400; i < 408; ++i) EXPECT_EQ(packets[i], 0) << "ray " << i;
+  std::vector<std::uint8_t> short_output(rays.size() - 1);
+  EXPECT_THROW(embree.occluded_packets(rays, short_output), Error);
+  embree.occluded_packets({}, {});
+}
+
 TEST(EmbreeAccelerator, PacketsHonourTheHitInterval) {
   const Scene scene = triangle_at_z2();
   EmbreeAccelerator embree;
@@ -204,6 +250,12 @@ TEST(EmbreeAccelerator, PacketsHonourTheHitInterval) {
   nothing.build(empty);
   nothing.intersect_packets(rays, hits);
   for (const Hit& h : hits) EXPECT_FALSE(h.found());
+  // The same interval rules for any hits through rtcOccluded8.
+  std::vector<std::uint8_t> occluded(rays.size(), 2);
+  embree.occluded_packets(rays, occluded);
+  EXPECT_EQ(occluded, (std::vector<std::uint8_t>{1, 0, 0}));
+  nothing.occluded_packets(rays, occluded);
+  EXPECT_EQ(occluded, (std::vector<std::uint8_t>{0, 0, 0}));
 }
 
 TEST(EmbreeAccelerator, InvalidAndZeroAreaTrianglesAreNeverHit) {

@@ -154,9 +154,11 @@ std::string hit_mismatch(const Scene& scene, const Ray& ray, const Hit& expected
 void expect_matches_reference(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
                               std::span<const Hit> reference, const std::string& label) {
   ASSERT_EQ(rays.size(), reference.size());
-  // The packet batch too (rays[8k .. 8k + 8) traced together where the structure has a packet traversal).
+  // The packet batches too (rays[8k .. 8k + 8) traced together where the structure has a packet traversal).
   std::vector<Hit> packet_hits(rays.size());
   accel.intersect_packets(rays, packet_hits);
+  std::vector<std::uint8_t> packet_occluded(rays.size(), 2);  // 2: never written
+  accel.occluded_packets(rays, packet_occluded);
   int faults = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Hit hit = accel.intersect(rays[i]);
@@ -169,11 +171,15 @@ void expect_matches_reference(const Accelerator& accel, const Scene& scene, std:
       const std::string packet_fault = hit_mismatch(scene, rays[i], reference[i], packet_hits[i]);
       if (!packet_fault.empty()) fault = "intersect_packets(), packet " + std::to_string(i / 8) + ": " + packet_fault;
     }
+    if (fault.empty() && packet_occluded[i] != (reference[i].found() ? 1 : 0)) {
+      fault = "occluded_packets(), packet " + std::to_string(i / 8) + ": says " + std::to_string(packet_occluded[i]);
+    }
     if (fault.empty()) continue;
     if (++faults <= kMaxReportedFaults) {
       ADD_FAILURE() << accel.spec() << " / " << label << " / ray " << i << ": " << fault << "\n  " << describe(rays[i])
                     << "\n  expected " << describe(reference[i]) << "\n  got      " << describe(hit)
-                    << " occluded=" << occluded << "\n  packet   " << describe(packet_hits[i]);
+                    << " occluded=" << occluded << "\n  packet   " << describe(packet_hits[i])
+                    << " occluded=" << int(packet_occluded[i]);
     }
   }
   EXPECT_EQ(faults, 0) << accel.spec() << " / " << label << ": " << faults << " of " << rays.size()

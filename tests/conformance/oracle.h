@@ -50,9 +50,9 @@ std::string hit_mismatch(const Scene& scene, const Ray& ray, const Hit& expected
 std::string describe(const Ray& ray);
 std::string describe(const Hit& hit);
 
-/// Checks the single-ray intersect() and occluded() and the packet batch intersect_packets() of every ray against
-/// `reference` (brute force's closest hits: occluded must equal found). Reports the first few faults in detail and
-/// the total count, labelled.
+/// Checks the single-ray intersect() and occluded() and the packet batches intersect_packets() and occluded_packets()
+/// of every ray against `reference` (brute force's closest hits: occluded must equal found). Reports the first few
+/// faults in detail and the total count, labelled.
 void expect_matches_reference(const Accelerator& accel, const Scene& scene, std::span<const Ray> rays,
                               std::span<const Hit> reference, const std::string& label);
 /// The same, with the reference computed here.

@@ -67,6 +67,13 @@ class Accelerator {
   /// eight rays at once; the others trace the rays one by one. Any rays may share a packet (incoherent ones only cost
   /// speed), and every answer is a closest hit, as from intersect() (a tie in t may name another primitive).
   virtual void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const { intersect(rays, hits); }
+  /// Any hits of a batch of coherent rays (shadow rays of neighbouring pixels to one light, say), with the contract of
+  /// occluded(rays, occluded): 1 when anything is hit with t_min < t <= t_max, else 0. Structures with a packet
+  /// traversal trace each run of eight consecutive rays together, a ray leaving its packet once it is found occluded;
+  /// the others trace the rays one by one.
+  virtual void occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
+    this->occluded(rays, occluded);
+  }
 
   // Queries beyond the first hit, on triangle scenes, for the structures whose traversal can enumerate every
   // candidate of a ray or search near a point (supports_queries(): brute force, the BVH family, bvh_wide). The others,
@@ -145,9 +152,9 @@ namespace detail {
 /// Runs body(begin, end) over [0, count) in parallel chunks (TBB), every chunk in the calling thread's floating-point
 /// environment (see accelerator.cpp); the one place batches are split.
 void parallel_for_rays(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
-/// Rays per packet of intersect_packets().
+/// Rays per packet of intersect_packets() and occluded_packets().
 inline constexpr std::size_t kPacketSize = 8;
-/// parallel_for_rays() for intersect_packets(): body(begin, end) gets ray ranges that start at a multiple of
+/// parallel_for_rays() for packet batches: body(begin, end) gets ray ranges that start at a multiple of
 /// kPacketSize and end at one or at `count`, so no packet is split between chunks.
 void parallel_for_packets(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);

@@ -1,8 +1,8 @@
 // EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only: registered as
 // "embree" (options quality, robust, threads) but marked a comparison entry, so it is not among the variants the
-// conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time (intersect_packets: rtcIntersect8 eight at
-// a time) inside the same TBB batch loop every structure uses, so timings compare like with like. Available only when
-// RAYACCEL_HAVE_EMBREE is defined.
+// conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time
+// (intersect_packets, occluded_packets: rtcIntersect8, rtcOccluded8 eight at a time) inside the same TBB batch loop
+// every structure uses, so timings compare like with like. Available only when RAYACCEL_HAVE_EMBREE is defined.
 #pragma once
 
 #include <vector>
@@ -70,6 +70,9 @@ class EmbreeAccelerator final : public Accelerator {
   /// rules. Void rays and rays with an empty interval are inactive lanes and miss; a final partial packet has its
   /// missing lanes inactive; a packet with no active lane does not reach Embree.
   void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const override;
+  /// The same with rtcOccluded8 for any hits: 1 for a lane Embree reports occluded, 0 for the others (inactive lanes
+  /// included).
+  void occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const override;
 
   /// Bytes Embree allocated for the committed scene, as reported by its device memory monitor.
   std::size_t memory_bytes() const override;

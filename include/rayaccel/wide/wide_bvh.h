@@ -5,7 +5,8 @@
 // one). Width 8 uses AVX2 and is chosen at run time only when the CPU has it (the same kernels compiled for AVX-512
 // where the CPU has that: EVEX encoding and 32 vector registers); width 4 uses SSE2, which every x86-64 CPU has.
 // Closest-hit traversal visits children near-first; any-hit stops at the first hit. With eight-wide nodes,
-// intersect_packets() traces eight coherent rays as one packet (Wald et al. 2001; wide_bvh_packets.cpp).
+// intersect_packets() and occluded_packets() trace eight coherent rays as one packet (Wald et al. 2001;
+// wide_bvh_packets.cpp).
 #pragma once
 
 #include <cstdint>
@@ -101,6 +102,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// Eight rays at a time with eight-wide nodes (wide_bvh_packets.cpp); one by one with four-wide nodes or for
   /// primitives other than triangles.
   void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const override;
+  /// Any hits, eight rays at a time with eight-wide nodes (wide_bvh_packets.cpp), each ray leaving its packet once
+  /// occluded; one by one where intersect_packets() is.
+  void occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const override;
 
   /// The queries beyond the first hit (wide_bvh_queries.cpp; see detail::StructureWithQueries): scalar walks over
   /// the same nodes and blocks.
@@ -169,8 +173,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
-  /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count) (wide_bvh_packets.cpp).
-  template <class S>
+  /// True when the packet traversals run: eight-wide nodes (AVX builds) over a non-empty triangle tree.
+  bool has_packet_traversal() const;
+  /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count), or with AnyHit a hit (the first
+  /// found) for each occluded ray and a miss for the others (wide_bvh_packets.cpp).
+  template <class S, bool AnyHit>
   RAYACCEL_LANE_INLINE void trace_packet(const Ray* rays, int count, Hit* hits) const;
   template <class Kernel, bool AnyHit, class Stats>
   RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
