@@ -10,9 +10,12 @@ occlusion (a quarter of the diagonal from origins offset along the normal), L li
 (the primary rays in 4x2 pixel tiles traced eight at a time: intersect_packets(), Embree's rtcIntersect8), LPk
 light_packet (the light rays in that tile order traced eight at a time: occluded_packets(), Embree's rtcOccluded8).
 Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree's default; Embree's own figures are
-medians too. When the runs have Embree's robust mode (embree:robust=1), a column gives the default against it.
+medians too. Table 1b: the default against Embree's other modes the runs have (embree:robust=1,
+embree:quality=high), one column each.
 Table 2: the lowest and highest of the default structure's ratios over the runs (only with two or more runs).
 Table 3: the spatial structures as slowdowns against the default bvh_wide (1 thread).
+Table 4: when the run directories hold large1.json and large2.json (the 8.4-million-triangle scene), the default
+against Embree's default there.
 """
 import json
 import statistics
@@ -24,7 +27,7 @@ LETTERS = {"primary": "P", "diffuse": "D", "shadow": "S", "occlusion": "O", "lig
 KINDS = tuple(LETTERS)  # set by main() to the kinds every result of every run has, in this order
 DEFAULT = "bvh_wide"
 EMBREE = "embree"
-EMBREE_ROBUST = "embree:robust=1"
+EMBREE_MODES = ("embree:robust=1", "embree:quality=high")
 NO_PRESPLIT = "bvh_wide:presplit=0"
 SPATIAL = ("kdtree:builder=sah", "grid", "grid:density=1,blocks=true,mailbox=false")
 
@@ -91,10 +94,11 @@ def main():
     runs = [load(Path(d)) for d in sys.argv[1:]]
     global KINDS
     KINDS = common_kinds(runs)
-    robust = all(EMBREE_ROBUST in rows_by_accel(scene) for run in runs for t in (1, 2) for scene in run[t]["scenes"])
+    modes = [m for m in EMBREE_MODES
+             if all(m in rows_by_accel(scene) for run in runs for t in (1, 2) for scene in run[t]["scenes"])]
     # (threads, scene) -> per-run figures, in the first run's order.
     keys = [(t, s["scene"]) for t in (1, 2) for s in runs[0][t]["scenes"]]
-    figures = {key: {"embree": [], "default": [], "no_presplit": [], "robust": [], "spatial": []} for key in keys}
+    figures = {key: {"embree": [], "default": [], "no_presplit": [], "modes": [], "spatial": []} for key in keys}
     for run in runs:
         for threads in (1, 2):
             for scene in run[threads]["scenes"]:
@@ -107,22 +111,28 @@ def main():
                 figures[key]["default"].append(ratios_to_embree(rows[DEFAULT], embree))
                 figures[key]["no_presplit"].append(ratios_to_embree(rows[NO_PRESPLIT], embree))
                 figures[key]["spatial"].append(slowdowns(rows))
-                if robust:
-                    figures[key]["robust"].append(ratios_to_embree(rows[DEFAULT], rows[EMBREE_ROBUST]))
+                figures[key]["modes"].append([ratios_to_embree(rows[DEFAULT], rows[m]) for m in modes])
 
     print(f"Medians over {len(runs)} run(s).")
     print()
-    robust_head = f" {DEFAULT} against {EMBREE_ROBUST}: build / memory / {letters()} |" if robust else ""
     print(f"| scene | threads | Embree build ms / MB / Mrays/s {letters('/')} "
-          f"| {DEFAULT} build / memory / {letters()} | {NO_PRESPLIT} build / memory / {letters()} |{robust_head}")
-    print("|---|---|---|---|---|" + ("---|" if robust else ""))
+          f"| {DEFAULT} build / memory / {letters()} | {NO_PRESPLIT} build / memory / {letters()} |")
+    print("|---|---|---|---|---|")
     for threads, scene in keys:
         f = figures[(threads, scene)]
         embree = median_of(f["embree"])
         embree_text = f"{embree[0]:.0f} / {embree[1]:.1f} / {joined(embree[2:])}"
-        robust_cell = f" {joined(median_of(f['robust']))} |" if robust else ""
         print(f"| {scene} | {threads} | {embree_text} | {joined(median_of(f['default']))} "
-              f"| {joined(median_of(f['no_presplit']))} |{robust_cell}")
+              f"| {joined(median_of(f['no_presplit']))} |")
+
+    if modes:
+        print()
+        print("| scene | threads | " + " | ".join(f"{DEFAULT} against {m}: build / memory / {letters()}" for m in modes)
+              + " |")
+        print("|---|---|" + "---|" * len(modes))
+        for threads, scene in keys:
+            cells = median_of(figures[(threads, scene)]["modes"])
+            print(f"| {scene} | {threads} | " + " | ".join(joined(c) for c in cells) + " |")
 
     if len(runs) > 1:
         print()
@@ -142,6 +152,29 @@ def main():
             continue
         cells = median_of(figures[(threads, scene)]["spatial"])
         print(f"| {scene} | " + " | ".join(joined(c) for c in cells) + " |")
+    print_large(sys.argv[1:])
+
+
+def print_large(directories):
+    """Table 4: the default against Embree on the large scene, when every run directory has it."""
+    paths = [Path(d) / f"large{t}.json" for d in directories for t in (1, 2)]
+    if not all(path.exists() for path in paths):
+        return
+    rows = {}
+    for d in directories:
+        for threads in (1, 2):
+            for scene in json.loads((Path(d) / f"large{threads}.json").read_text())["scenes"]:
+                by_accel = rows_by_accel(scene)
+                entry = rows.setdefault((threads, scene["scene"]), {"embree": [], "default": []})
+                entry["embree"].append(embree_figures(by_accel[EMBREE]))
+                entry["default"].append(ratios_to_embree(by_accel[DEFAULT], by_accel[EMBREE]))
+    print()
+    print(f"| scene | threads | Embree build ms / MB / Mrays/s {letters('/')} | {DEFAULT} build / memory / {letters()} |")
+    print("|---|---|---|---|")
+    for (threads, scene), entry in rows.items():
+        embree = median_of(entry["embree"])
+        print(f"| {scene} | {threads} | {embree[0]:.0f} / {embree[1]:.1f} / {joined(embree[2:])} "
+              f"| {joined(median_of(entry['default']))} |")
 
 
 if __name__ == "__main__":

@@ -206,6 +206,30 @@ class EmbreeFloatMode {
   unsigned saved_;
 };
 
+
+/// The loop both packet queries share: ranges of whole packets over the threads, each with Embree's float mode and a
+/// coherent context; each packet filled once (fill_packet), traced by `trace(valid, context, query)` when a lane is
+/// live, then every lane's answer stored by `store(ray index, lane live, query, lane)`. Nothing built: every lane is
+/// stored as not live.
+template <class Query, class Trace, class Store>
+void trace_packets(std::span<const Ray> rays, RTCScene scene, Trace&& trace, Store&& store) {
+  constexpr std::size_t kLanes = detail::kPacketSize;
+  static_assert(kLanes == 8, "one rtcIntersect8 / rtcOccluded8 call per packet");
+  detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
+    const EmbreeFloatMode mode;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[kLanes] = {};
+    Query query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
+    for (std::size_t first = begin; first < end; first += kLanes) {
+      const std::size_t count = std::min(kLanes, end - first);
+      if (scene && fill_packet(rays.subspan(first, count), valid, query)) trace(valid, context, query);
+      for (std::size_t lane = 0; lane < count; ++lane) store(first + lane, scene && valid[lane] != 0, query, lane);
+    }
+  });
+}
+
 }  // namespace
 
 Hit EmbreeAccelerator::intersect(const Ray& ray) const {
@@ -252,64 +276,35 @@ void EmbreeAccelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits
 
 void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
-  constexpr std::size_t kLanes = detail::kPacketSize;
-  static_assert(kLanes == 8, "one rtcIntersect8 call per packet");
-  detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
-    if (!state_->scene) {
-      std::fill(hits.begin() + static_cast<std::ptrdiff_t>(begin), hits.begin() + static_cast<std::ptrdiff_t>(end),
-                Hit{});
-      return;
-    }
-    const EmbreeFloatMode mode;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(32) int valid[kLanes];
-    RTCRayHit8 query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
-    for (std::size_t first = begin; first < end; first += kLanes) {
-      const std::size_t count = std::min(kLanes, end - first);
-      if (fill_packet(rays.subspan(first, count), valid, query)) rtcIntersect8(valid, state_->scene, &context, &query);
+  trace_packets<RTCRayHit8>(
+      rays, state_->scene,
+      [&](const int* valid, RTCIntersectContext& context, RTCRayHit8& query) {
+        rtcIntersect8(valid, state_->scene, &context, &query);
+      },
       // Each record written whole and once, as rayaccel's packet traversal writes its own (a miss is Hit{}).
-      for (std::size_t lane = 0; lane < count; ++lane) {
+      [&](std::size_t index, bool valid, const RTCRayHit8& query, std::size_t lane) {
         Hit hit;
-        if (valid[lane] != 0 && query.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID) {
+        if (valid && query.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID) {
           hit.t = query.ray.tfar[lane];
           hit.prim_id = state_->prim_ids[query.hit.primID[lane]];
           hit.u = query.hit.u[lane];
           hit.v = query.hit.v[lane];
         }
-        hits[first + lane] = hit;
-      }
-    }
-  });
+        hits[index] = hit;
+      });
 }
 
 void EmbreeAccelerator::occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out) const {
   detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
-  constexpr std::size_t kLanes = detail::kPacketSize;
-  static_assert(kLanes == 8, "one rtcOccluded8 call per packet");
-  detail::parallel_for_packets(rays.size(), [&](std::size_t begin, std::size_t end) {
-    const auto out = occluded_out.begin();
-    if (!state_->scene) {
-      std::fill(out + static_cast<std::ptrdiff_t>(begin), out + static_cast<std::ptrdiff_t>(end), 0);
-      return;
-    }
-    const EmbreeFloatMode mode;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(32) int valid[kLanes];
-    RTCRay8 query{};  // 32-byte aligned (RTC_ALIGN(32) members); inactive lanes keep defined values
-    for (std::size_t first = begin; first < end; first += kLanes) {
-      const std::size_t count = std::min(kLanes, end - first);
-      if (fill_packet(rays.subspan(first, count), valid, query)) rtcOccluded8(valid, state_->scene, &context, &query);
+  trace_packets<RTCRay8>(
+      rays, state_->scene,
+      [&](const int* valid, RTCIntersectContext& context, RTCRay8& query) {
+        rtcOccluded8(valid, state_->scene, &context, &query);
+      },
       // Embree marks an occluded lane by tfar = -inf (as rtcOccluded1, see occluded()).
-      for (std::size_t lane = 0; lane < count; ++lane) {
-        occluded_out[first + lane] =
-            valid[lane] != 0 && query.tfar[lane] == -std::numeric_limits<float>::infinity() ? 1 : 0;
-      }
-    }
-  });
+      [&](std::size_t index, bool valid, const RTCRay8& query, std::size_t lane) {
+        occluded_out[index] = valid && query.tfar[lane] == -std::numeric_limits<float>::infinity() ? 1 : 0;
+      });
 }
 
 void EmbreeAccelerator::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out,

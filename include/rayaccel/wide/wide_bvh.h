@@ -257,7 +257,7 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
   if constexpr (AnyHit) {
     // Any hit: the far bound stays hit.t until the first hit ends the query, so nothing on the stack can be culled
     // by a closer hit: it holds bare references, and the children met are taken in lane order (the first entered,
-    // the others pushed), as ordering them by distance did not pay (BENCHMARKS.md).
+    // the others pushed), as ordering them by distance did not pay (docs/benchmark-history.md, step 24).
     const float t_far = hit.t;
     std::uint32_t pending[kStackSize];
     int count = 0;
