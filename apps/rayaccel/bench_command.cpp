@@ -306,6 +306,16 @@ void pool_measurements(StructureResult& row, const StructureResult& again) {
   }
 }
 
+/// The per-pixel values of an N x N image (row by row) reordered into packet_tile_order(), as the packet kinds take
+/// their rays.
+template <class T>
+std::vector<T> in_tile_order(const std::vector<T>& per_pixel, int resolution) {
+  std::vector<T> tiled;
+  tiled.reserve(per_pixel.size());
+  for (const std::size_t i : packet_tile_order(resolution, resolution)) tiled.push_back(per_pixel[i]);
+  return tiled;
+}
+
 /// Median time to prepare the scene from its mesh (per-primitive vertices, bounds and validity), the work Embree
 /// does inside its build: rayaccel's structures get it added to their build times, so both sides count it.
 double scene_preparation_ms(const Scene& scene) {
@@ -370,20 +380,12 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
                              OriginOffset{kFixedOffsetFraction * diagonal});
         break;
       case RayKind::light: w.rays = light_rays(scene, primary, primary_hits, light_position(scene, camera)); break;
-      case RayKind::packet:
-        for (const std::size_t i : packet_tile_order(args.resolution, args.resolution)) w.rays.push_back(primary[i]);
-        break;
-      case RayKind::light_packet: {
+      case RayKind::packet: w.rays = in_tile_order(primary, args.resolution); break;
+      case RayKind::light_packet:
         // The light rays of the primary hits taken in tile order: the same rays as `light`, neighbours together.
-        std::vector<Ray> tiled;
-        std::vector<Hit> tiled_hits;
-        for (const std::size_t i : packet_tile_order(args.resolution, args.resolution)) {
-          tiled.push_back(primary[i]);
-          tiled_hits.push_back(primary_hits[i]);
-        }
-        w.rays = light_rays(scene, tiled, tiled_hits, light_position(scene, camera));
+        w.rays = light_rays(scene, in_tile_order(primary, args.resolution),
+                            in_tile_order(primary_hits, args.resolution), light_position(scene, camera));
         break;
-      }
     }
     workloads.push_back(std::move(w));
   }

@@ -193,18 +193,24 @@ TEST(CliTrace, SaveThenLoadGivesTheSameHits) {
   EXPECT_NE(foreign.err.find(c.rays.string()), std::string::npos) << foreign.err;
 }
 
-TEST(CliTrace, OcclusionWritesOccFile) {
-  const SmallCase c = make_small_case();
-  const auto out = c.dir / "out.occ";
-  const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "brute_force", "--occlusion",
-                               "--threads", "1", "--repeat", "1", "--out", out.string()});
-  ASSERT_EQ(result.exit_code, 0) << result.err;
+/// Brute force's any-hit answers for the small case's rays (the reference of the --occlusion tests).
+std::vector<std::uint8_t> brute_force_occlusion(const SmallCase& c) {
   const Scene scene = load_scene(c.ply.string());
   BruteForce oracle;
   oracle.build(scene);
   const std::vector<Ray> rays = read_rays(c.rays);
   std::vector<std::uint8_t> expected(rays.size());
   oracle.occluded(rays, expected);
+  return expected;
+}
+
+TEST(CliTrace, OcclusionWritesOccFile) {
+  const SmallCase c = make_small_case();
+  const auto out = c.dir / "out.occ";
+  const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "brute_force", "--occlusion",
+                               "--threads", "1", "--repeat", "1", "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::vector<std::uint8_t> expected = brute_force_occlusion(c);
   EXPECT_EQ(read_occlusion(out), expected);
   const nlohmann::json summary = nlohmann::json::parse(last_nonempty_line(result.out));
   EXPECT_EQ(summary["threads"], 1);
@@ -217,12 +223,7 @@ TEST(CliTrace, OcclusionPacketsGiveWhatBruteForceDecides) {
   const auto result = run_cli({"trace", c.ply.string(), c.rays.string(), "--accel", "bvh_wide", "--occlusion",
                                "--packets", "--repeat", "1", "--out", out.string()});
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const Scene scene = load_scene(c.ply.string());
-  BruteForce oracle;
-  oracle.build(scene);
-  const std::vector<Ray> rays = read_rays(c.rays);
-  std::vector<std::uint8_t> expected(rays.size());
-  oracle.occluded(rays, expected);
+  const std::vector<std::uint8_t> expected = brute_force_occlusion(c);
   EXPECT_EQ(read_occlusion(out), expected);
   EXPECT_EQ(nlohmann::json::parse(last_nonempty_line(result.out))["query"], "occluded_packets");
 }
