@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "rayaccel/core/ray.h"
@@ -58,7 +59,9 @@ struct BoxPacket {
   typename S::F inv_direction[3];
   typename S::F t_min;
   typename S::F widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
-  int near_offset[3];       ///< 0 when the near plane is lo (direction >= +0), 1 when it is hi
+  /// Byte offsets of each axis's near and far planes in a node's `float bounds[3][2][S::kWidth]` (the near plane is
+  /// lo where the direction is >= +0, hi where it is negative), worked out once per ray so a node test is six loads.
+  std::ptrdiff_t near_bytes[3], far_bytes[3];
   bool t_min_non_negative;  ///< then every entry distance is >= 0 and the widening needs no per-lane sign test
   bool shifted;             ///< slab_shift != 0: the origin was moved off subnormal coordinates
 
@@ -67,7 +70,9 @@ struct BoxPacket {
     for (int a = 0; a < 3; ++a) {
       origin[a] = S::set1(box_origin.origin[a]);
       inv_direction[a] = S::set1(r.inv_direction[a]);
-      near_offset[a] = r.negative[a];
+      constexpr auto kPlaneBytes = static_cast<std::ptrdiff_t>(S::kWidth * sizeof(float));
+      near_bytes[a] = (2 * a + (r.negative[a] ? 1 : 0)) * kPlaneBytes;
+      far_bytes[a] = (2 * a + (r.negative[a] ? 0 : 1)) * kPlaneBytes;
     }
     t_min = S::set1(r.t_min);
     widen_down = S::set1(box_origin.widen_down);
@@ -106,9 +111,10 @@ struct BoxKernel {
     static_assert(sizeof(node.bounds[0][0]) == kWidth * sizeof(float), "one child box a lane");
     F t_near = ray.t_min;
     F t_far = S::set1(t_far_scalar);
+    const char* planes = reinterpret_cast<const char*>(node.bounds);
     for (int a = 0; a < 3; ++a) {
-      const F near_plane = S::load(node.bounds[a][ray.near_offset[a]]);
-      const F far_plane = S::load(node.bounds[a][1 - ray.near_offset[a]]);
+      const F near_plane = S::load(reinterpret_cast<const float*>(planes + ray.near_bytes[a]));
+      const F far_plane = S::load(reinterpret_cast<const float*>(planes + ray.far_bytes[a]));
       const F t0 = S::mul(S::sub(near_plane, ray.origin[a]), ray.inv_direction[a]);
       const F t1 = S::mul(S::sub(far_plane, ray.origin[a]), ray.inv_direction[a]);
       t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound (second operand)

@@ -183,9 +183,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// blocks) before it is visited, as Embree's traversal does: incoherent rays spend most of their time waiting for
   /// nodes, and the children pushed now are popped after the memory has had time to answer.
   template <int W>
-  RAYACCEL_LANE_INLINE void prefetch_child(const NodeArray<W>& nodes, std::uint32_t ref) const {
-    const char* p = (ref & kLeafBit) ? reinterpret_cast<const char*>(&blocks_[leaf_first_block(ref)])
-                                     : reinterpret_cast<const char*>(&nodes[ref]);
+  RAYACCEL_LANE_INLINE static void prefetch_child(const Node<W>* nodes, const Triangle4* blocks, std::uint32_t ref) {
+    const char* p = (ref & kLeafBit) ? reinterpret_cast<const char*>(blocks + leaf_first_block(ref))
+                                     : reinterpret_cast<const char*>(nodes + ref);
     __builtin_prefetch(p);
     __builtin_prefetch(p + 64);
     __builtin_prefetch(p + 128);
@@ -195,8 +195,14 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
                                      const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
-  RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet,
-                                           const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const Triangle4* blocks,
+                                           const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
+                                           Stats& stats) const;
+  /// The leaf test of scenes other than triangle meshes (blocks hold only ids: Scene::intersect one by one), kept out
+  /// of line so the triangle traversal's loop holds no call that would take its registers.
+  template <bool AnyHit, class Stats>
+  [[gnu::noinline, gnu::cold]] bool intersect_leaf_prims(std::uint32_t ref, const PreparedRay& ray, Hit& hit,
+                                                         Stats& stats) const;
 
   WideBvhOptions config_;
   int width_ = 4;
@@ -224,26 +230,31 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::uint32_t dropped_repeats_ = 0;   ///< references dropped because their primitive was already in the leaf
 };
 
-/// Tests a leaf's blocks: two at a time when Lanes is eight wide (AVX2), one at a time with SSE otherwise.
+/// Tests a leaf's blocks (`blocks` is blocks_.data(), held by the traversal): two at a time when Lanes is eight wide
+/// (AVX2), one at a time with SSE otherwise.
 template <class Lanes, bool AnyHit, class Stats>
-RAYACCEL_LANE_INLINE bool WideBvh::intersect_leaf(std::uint32_t ref, const TrianglePacket<Lanes>& packet,
-                                                  const PreparedRay& ray, Hit& hit, Stats& stats) const {
-  std::uint32_t b = leaf_first_block(ref);
-  const std::uint32_t end = b + leaf_block_count(ref);
-  bool found = false;
-  if (!triangles_) {
-    for (; b < end; ++b) {
-      for (std::uint32_t id : blocks_[b].prim_id) {
-        if (id == kInvalidPrimId) continue;
-        stats.test_primitive();
-        found |= scene_->intersect(id, ray, hit);
-        if (AnyHit && found) return true;
-      }
-    }
-    return found;
-  }
+RAYACCEL_LANE_INLINE bool WideBvh::intersect_leaf(std::uint32_t ref, const Triangle4* blocks,
+                                                  const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
+                                                  Stats& stats) const {
+  if (!triangles_) [[unlikely]] return intersect_leaf_prims<AnyHit>(ref, ray, hit, stats);
   BlockMailbox unused;  // no mailbox: a primitive is in one leaf, or once per leaf (pre-split pieces)
-  return simd::intersect_block_run<Lanes, AnyHit, false>(packet, ray, &blocks_[b], end - b, unused, hit, stats);
+  return simd::intersect_block_run<Lanes, AnyHit, false>(packet, ray, blocks + leaf_first_block(ref),
+                                                         leaf_block_count(ref), unused, hit, stats);
+}
+
+template <bool AnyHit, class Stats>
+bool WideBvh::intersect_leaf_prims(std::uint32_t ref, const PreparedRay& ray, Hit& hit, Stats& stats) const {
+  bool found = false;
+  const std::uint32_t end = leaf_first_block(ref) + leaf_block_count(ref);
+  for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
+    for (std::uint32_t id : blocks_[b].prim_id) {
+      if (id == kInvalidPrimId) continue;
+      stats.test_primitive();
+      found |= scene_->intersect(id, ray, hit);
+      if (AnyHit && found) return true;
+    }
+  }
+  return found;
 }
 
 template <class Kernel, bool AnyHit, class Stats>
@@ -251,6 +262,10 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
                                              const PreparedRay& ray, Hit& hit, Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (start == kEmptyChild) return;
+  // The arrays' addresses in locals: read through the vectors, they would be reloaded at every step, as the stores
+  // to the stack and the hit might change them for all the compiler knows.
+  const Node<W>* const node_at = nodes.data();
+  const Triangle4* const blocks = blocks_.data();
   const TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
   std::uint32_t ref = start;
@@ -264,17 +279,17 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
     for (;;) {
       stats.visit_node();
       if (ref & kLeafBit) {
-        if (intersect_leaf<typename Kernel::Lanes, true>(ref, triangle_packet, ray, hit, stats)) return;
+        if (intersect_leaf<typename Kernel::Lanes, true>(ref, blocks, triangle_packet, ray, hit, stats)) return;
       } else {
-        const Node<W>& node = nodes[ref];
+        const Node<W>& node = node_at[ref];
         alignas(32) float entry[W];  // entry distances, which the box test writes and any-hit does not use
         int mask = Kernel::intersect(box_packet, node, t_far, entry);
         if (mask) {
           ref = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
-          prefetch_child(nodes, ref);
+          prefetch_child(node_at, blocks, ref);
           for (mask &= mask - 1; mask; mask &= mask - 1) {
             pending[count] = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
-            prefetch_child(nodes, pending[count++]);
+            prefetch_child(node_at, blocks, pending[count++]);
           }
           continue;
         }
@@ -293,9 +308,9 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
     for (;;) {
       stats.visit_node();
       if (ref & kLeafBit) {
-        intersect_leaf<typename Kernel::Lanes, false>(ref, triangle_packet, ray, hit, stats);
+        intersect_leaf<typename Kernel::Lanes, false>(ref, blocks, triangle_packet, ray, hit, stats);
       } else {
-        const Node<W>& node = nodes[ref];
+        const Node<W>& node = node_at[ref];
         alignas(32) float entry[W];
         int mask = Kernel::intersect(box_packet, node, hit.t, entry);
         if (mask) {
@@ -305,7 +320,7 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
           mask &= mask - 1;
           if (mask == 0) {
             ref = node.child[first];
-            prefetch_child(nodes, ref);
+            prefetch_child(node_at, blocks, ref);
             continue;
           }
           const int second = __builtin_ctz(static_cast<unsigned>(mask));
@@ -316,8 +331,8 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
             const int far = first_nearer ? second : first;
             stack[top++] = {node.child[far], entry[far]};
             ref = node.child[near];
-            prefetch_child(nodes, ref);
-            prefetch_child(nodes, node.child[far]);
+            prefetch_child(node_at, blocks, ref);
+            prefetch_child(node_at, blocks, node.child[far]);
             continue;
           }
           // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
@@ -325,14 +340,14 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
           Entry* met = stack + top;
           met[0] = {node.child[first], entry[first]};
           met[1] = {node.child[second], entry[second]};
-          prefetch_child(nodes, met[0].ref);
-          prefetch_child(nodes, met[1].ref);
+          prefetch_child(node_at, blocks, met[0].ref);
+          prefetch_child(node_at, blocks, met[1].ref);
           if (met[0].t_entry < met[1].t_entry) std::swap(met[0], met[1]);
           int n = 2;
           for (; mask; mask &= mask - 1) {
             const int lane = __builtin_ctz(static_cast<unsigned>(mask));
             const Entry e{node.child[lane], entry[lane]};
-            prefetch_child(nodes, e.ref);
+            prefetch_child(node_at, blocks, e.ref);
             int i = n++;
             for (; i > 0 && met[i - 1].t_entry < e.t_entry; --i) met[i] = met[i - 1];
             met[i] = e;
