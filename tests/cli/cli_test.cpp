@@ -479,7 +479,8 @@ TEST(CliBench, HeatMapsOfOneRunShareOneColourScale) {
 TEST(CliBench, TooManyHeatMapsForOneScaleAskForHeatMaxBeforeWorking) {
   const SmallCase c = make_small_case();
   const auto images = c.dir / "big_images";
-  const auto result = run_cli({"bench", c.ply.string(), "--accel", "all", "--res", "8192", "--images", images.string()});
+  const auto result =
+      run_cli({"bench", c.ply.string(), "--accel", "all", "--res", "8192", "--images", images.string()});
   EXPECT_EQ(result.exit_code, 2) << result.err;
   EXPECT_NE(result.err.find("--heat-max"), std::string::npos) << result.err;
   EXPECT_FALSE(std::filesystem::exists(images));
