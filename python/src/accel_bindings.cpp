@@ -85,8 +85,16 @@ class PyAccelerator {
     accel_ = std::move(loaded);
     scene_ = std::move(scene);
   }
-  bool supports_refit() const { return accel_->supports_refit(); }
-  bool supports_save() const { return accel_->supports_save(); }
+  // load() replaces accel_ with the GIL released, so even the structure's fixed properties are read under the lock
+  // (a reference into the old structure would dangle): spec() returns a copy.
+  bool supports_refit() const {
+    std::shared_lock lock(mutex_);
+    return accel_->supports_refit();
+  }
+  bool supports_save() const {
+    std::shared_lock lock(mutex_);
+    return accel_->supports_save();
+  }
 
   // Accessors run with the GIL held; they wait for a build running in another thread (which needs no GIL until
   // it ends), never the other way round.
@@ -94,7 +102,10 @@ class PyAccelerator {
     std::shared_lock lock(mutex_);
     return scene_ != nullptr;
   }
-  const std::string& spec() const { return accel_->spec(); }
+  std::string spec() const {
+    std::shared_lock lock(mutex_);
+    return accel_->spec();
+  }
   std::shared_ptr<Scene> scene() const {
     std::shared_lock lock(mutex_);
     return scene_;
