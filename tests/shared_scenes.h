@@ -8,13 +8,14 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include "test_paths.h"
 
 namespace rayaccel::testing {
 
 /// ../shared/scenes beside the source tree, or the folder named by the environment variable RAYACCEL_SHARED_SCENES.
 inline std::filesystem::path shared_scenes_dir() {
   const char* dir = std::getenv("RAYACCEL_SHARED_SCENES");
-  return dir != nullptr && *dir != '\0' ? dir : RAYACCEL_SHARED_SCENES;
+  return dir != nullptr && *dir != '\0' ? dir : default_shared_scenes_dir();
 }
 
 /// True when RAYACCEL_REQUIRE_SHARED is set to 1.

@@ -10,6 +10,7 @@
 
 #include "cli_runner.h"
 #include "rayaccel/scene/ray_io.h"
+#include "../test_paths.h"
 
 namespace rayaccel {
 namespace {
@@ -21,7 +22,7 @@ constexpr const char* kScene = "builtin:sphere:level=1";
 
 /// The CLI with `args`, killed after 60 s (exit code 124 then).
 CommandResult run_bounded(std::vector<std::string> args) {
-  args.insert(args.begin(), {"60", RAYACCEL_CLI_PATH});
+  args.insert(args.begin(), {"60", testing::cli_path()});
   return testing::run_program("timeout", args);
 }
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include "../test_paths.h"
 
 namespace rayaccel::testing {
 
@@ -60,7 +61,7 @@ CommandResult run_program(const std::string& program, const std::vector<std::str
   return result;
 }
 
-CommandResult run_cli(const std::vector<std::string>& args) { return run_program(RAYACCEL_CLI_PATH, args); }
+CommandResult run_cli(const std::vector<std::string>& args) { return run_program(cli_path(), args); }
 
 std::string last_nonempty_line(const std::string& out) {
   std::istringstream lines(out);

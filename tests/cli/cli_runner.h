@@ -1,4 +1,4 @@
-// Runs the built rayaccel binary (RAYACCEL_CLI_PATH) or another program from a test and captures its exit code,
+// Runs the built rayaccel binary (testing::cli_path(), tests/test_paths.h) or another program from a test and captures its exit code,
 // stdout and stderr; plus small file helpers the end-to-end tests share.
 #pragma once
 

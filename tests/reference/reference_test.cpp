@@ -16,6 +16,7 @@
 #include "rayaccel/render/camera.h"
 #include "rayaccel/scene/import.h"
 #include "rayaccel/scene/ray_io.h"
+#include "../test_paths.h"
 
 namespace rayaccel {
 namespace {
@@ -96,7 +97,7 @@ std::vector<Ray> bunny_rays(const std::filesystem::path& ply, const TriangleMesh
 TEST(SlowReference, BunnyBruteForceMatchesIndependentReference) {
   const std::filesystem::path ply = testing::shared_scenes_dir() / "bunny.ply";
   const std::filesystem::path script =
-      std::filesystem::path(RAYACCEL_SOURCE_DIR) / "tests" / "reference" / "reference_trace.py";
+      std::filesystem::path(testing::source_dir()) / "tests" / "reference" / "reference_trace.py";
   RAYACCEL_NEED_SHARED_FILE(ply);
   RAYACCEL_NEED_SHARED_FILE(testing::shared_scenes_dir() / "MANIFEST.md");  // the standard camera
   // Not skipped when missing: scripts/setup.sh installs python3-numpy, so its absence is a broken setup.
