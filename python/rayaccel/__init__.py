@@ -27,7 +27,7 @@ from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 __all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "HIT64_DTYPE", "HIT_DTYPE",
            "Hits", "IHIT_DTYPE", "InstancedAccelerator", "InstancedScene", "MISS", "Scene", "TraversalStats",
            "__version__", "build", "build_double", "build_instanced", "builtin", "builtin_scenes", "diffuse_rays",
-           "heatmap", "load", "mesh", "mesh_double", "packet_tile_order", "render", "set_threads", "shadow_rays",
+           "heatmap", "load", "mesh", "mesh_double", "meshes", "packet_tile_order", "render", "set_threads", "shadow_rays",
            "specs", "spheres", "structures", "thread_limit", "threads", "winding_numbers"]
 
 #: One closest-point record, the 28-byte layout of the CLI's .closest file (prim_id = MISS: nothing within reach).
@@ -75,6 +75,13 @@ def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False, copy=True):
     if not copy:
         return _core._mesh_in_place(vertices, triangles, str(name), bool(allow_nonfinite))
     return _core._mesh(vertices, triangles, str(name), bool(allow_nonfinite))
+
+
+def meshes(pairs, name="meshes"):
+    """One triangle scene from several meshes, a list of (vertices, triangles) pairs each read as by mesh(), and its
+    GeometryTable: mesh k's triangles get the primitive ids after mesh k-1's, and table.geometry_of(hits.prim_id) /
+    table.local_primitive(hits.prim_id) give each hit's mesh and its triangle within that mesh (MISS for a miss)."""
+    return _core._meshes(list(pairs), str(name))
 
 
 def spheres(centers, radii, name="spheres"):

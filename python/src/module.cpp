@@ -33,6 +33,8 @@ int threads() {
 }
 
 }  // namespace
+
+void bind_geometry(py::module_& m);  // geometry_bindings.cpp (declared here, not in bindings.h, which every file reads)
 }  // namespace rayaccel::python
 
 PYBIND11_MODULE(_core, m) {
@@ -60,6 +62,7 @@ PYBIND11_MODULE(_core, m) {
   bind_render(m);
   bind_double(m);
   bind_instances(m);
+  bind_geometry(m);
 
   m.def("set_threads", &set_threads, py::arg("threads"),
         "Limits every build and batch to this many worker threads (0: all cores, TBB's default).");

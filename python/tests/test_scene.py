@@ -122,3 +122,30 @@ def test_spheres():
     np.testing.assert_allclose(hits.t, [4.0, 4.5], rtol=1e-6)
     np.testing.assert_allclose(hits.normals, [[0, 0, 1], [0, 0, 1]], atol=1e-6)
     assert rayaccel.spheres(np.zeros((3, 3), np.float32), 2.0).primitive_count == 3
+
+
+def test_meshes_keep_each_meshs_geometry_id():
+    rng = np.random.default_rng(11)
+    parts = [(rng.uniform(-1, 1, (30, 3)), rng.integers(0, 30, (25, 3))),
+             (rng.uniform(-1, 1, (3, 3)).astype(np.float32), np.zeros((0, 3), np.uint32)),  # an empty mesh
+             (rng.uniform(-1, 1, (20, 3)) + [0, 0, 3], rng.integers(0, 20, (15, 3)).astype(np.int32))]
+    scene, table = rayaccel.meshes(parts)
+    assert scene.primitive_count == 40 and table.geometry_count == 3
+    assert [table.first_primitive(k) for k in range(4)] == [0, 25, 25, 40]
+    ids = np.array([0, 24, 25, 39, 40, rayaccel.MISS], np.uint32)
+    np.testing.assert_array_equal(table.geometry_of(ids), [0, 0, 2, 2, rayaccel.MISS, rayaccel.MISS])
+    np.testing.assert_array_equal(table.local_primitive(ids), [0, 24, 0, 14, rayaccel.MISS, rayaccel.MISS])
+    # Rays down onto both meshes (the third lies 3 above the first): each hit's mesh is the one holding its triangle.
+    rays = np.zeros((400, 8), np.float32)
+    rays[:, 0:2] = rng.uniform(-1, 1, (400, 2))
+    rays[:, 2], rays[:, 6], rays[:, 7] = 10, -1, np.inf
+    hits = rayaccel.build(scene, "bvh_wide").intersect(rays)
+    geom = table.geometry_of(hits.prim_id)
+    found = hits.prim_id != rayaccel.MISS
+    np.testing.assert_array_equal(geom[found], np.where(hits.prim_id[found] < 25, 0, 2))
+    assert set(geom[found]) == {0, 2} and (geom[~found] == rayaccel.MISS).all()
+    np.testing.assert_array_equal(hits.t[geom == 2] < 9, True)  # the upper mesh is nearer
+    with pytest.raises(ValueError, match="mesh 1: .*5"):
+        rayaccel.meshes([parts[0], (parts[0][0][:5], np.array([[0, 1, 5]]))])
+    with pytest.raises(TypeError, match="integer"):
+        table.geometry_of(np.zeros(2, np.float32))

@@ -1,7 +1,8 @@
 # CTest test of the package (cmake -P): installs the build tree into a fresh prefix, checks the installed files and
 # `rayaccel --version`, then configures, builds and runs examples/consumer/main.cpp three ways: find_package (-O3)
 # and add_subdirectory (-O0, library included), both with -ffast-math -ffp-contract=fast and the CLI's hits to match
-# bit for bit on rays aimed at edges, and pkg-config against the shared library. Also checks that the README shows
+# bit for bit on rays aimed at edges, and pkg-config against the shared library (also the C API's example,
+# examples/capi/main.c, compiled as C11). Also checks that the README shows
 # the consumer's code.
 cmake_minimum_required(VERSION 3.21)
 foreach(var SOURCE_DIR BUILD_DIR WORK_DIR GENERATOR CXX LIBDIR VERSION)
@@ -50,7 +51,8 @@ endif()
 set(prefix ${WORK_DIR}/prefix)
 file(REMOVE_RECURSE ${prefix} ${WORK_DIR}/find_package ${WORK_DIR}/pkg_config)
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-foreach(file include/rayaccel/version.h include/rayaccel/accel/registry.h ${LIBDIR}/librayaccel.a
+foreach(file include/rayaccel/version.h include/rayaccel/accel/registry.h include/rayaccel/rayaccel_c.h
+             ${LIBDIR}/librayaccel.a
              ${LIBDIR}/librayaccel.so ${LIBDIR}/cmake/rayaccel/rayaccelConfig.cmake
              ${LIBDIR}/cmake/rayaccel/rayaccelConfigVersion.cmake ${LIBDIR}/pkgconfig/rayaccel.pc bin/rayaccel)
   if(NOT EXISTS ${prefix}/${file})
@@ -87,6 +89,10 @@ if(NOT dynamic MATCHES "librayaccel\\.so")
   message(FATAL_ERROR "the pkg-config consumer did not link the shared library:\n${dynamic}")
 endif()
 run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${prefix}/${LIBDIR} ${dir}/consumer ${cli} ${dir})
+# 2b. The C API from a C compiler through the same flags: the README's C example (examples/capi/main.c) as C11.
+find_program(C_COMPILER NAMES cc gcc REQUIRED)
+run(${C_COMPILER} -std=c11 -O2 ${SOURCE_DIR}/examples/capi/main.c ${flags} -o ${dir}/c_consumer)
+run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${prefix}/${LIBDIR} ${dir}/c_consumer)
 
 # 3. add_subdirectory of the source tree, library-only, no build type given: the library is compiled at -O0 under
 #    the consumer's -ffast-math -ffp-contract=fast, and must still give the CLI's bits.

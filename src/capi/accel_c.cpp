@@ -1,0 +1,140 @@
+// The C API's structures: built by registry spec over a C scene; closest-hit and any-hit queries for one ray, batches
+// and packets, with hits reported as (geometry id, primitive within the geometry).
+#include <cstring>
+#include <vector>
+
+#include "capi_handles.h"
+#include "rayaccel/accel/registry.h"
+
+using rayaccel::capi::Failure;
+using rayaccel::capi::guarded;
+using rayaccel::capi::require;
+
+namespace {
+
+static_assert(sizeof(rayaccel_ray) == sizeof(rayaccel::Ray), "rayaccel_ray is the 32-byte Ray record");
+static_assert(sizeof(rayaccel_hit) == 20, "rayaccel_hit is five 32-bit fields");
+
+rayaccel::Ray to_ray(const rayaccel_ray& r) {
+  rayaccel::Ray ray;
+  ray.origin = rayaccel::Vec3{r.org_x, r.org_y, r.org_z};
+  ray.t_min = r.t_min;
+  ray.direction = rayaccel::Vec3{r.dir_x, r.dir_y, r.dir_z};
+  ray.t_max = r.t_max;
+  return ray;
+}
+
+std::vector<rayaccel::Ray> to_rays(const rayaccel_ray* rays, size_t count) {
+  std::vector<rayaccel::Ray> out(count);
+  for (size_t i = 0; i < count; ++i) out[i] = to_ray(rays[i]);
+  return out;
+}
+
+rayaccel_hit to_hit(const rayaccel::Hit& hit, const rayaccel::GeometryTable& table) {
+  // A miss maps to RAYACCEL_INVALID_ID twice (geometry_of and local_primitive of kInvalidPrimId).
+  return rayaccel_hit{hit.t, table.local_primitive(hit.prim_id), hit.u, hit.v, table.geometry_of(hit.prim_id)};
+}
+
+void check_batch(const rayaccel_accel* accel, const rayaccel_ray* rays, size_t count, const void* out) {
+  require(accel, "accel");
+  if (count > 0) {
+    require(rays, "rays");
+    require(out, "output array");
+  }
+}
+
+template <class Trace>
+void trace_hits(const rayaccel_accel* accel, const rayaccel_ray* rays, size_t count, rayaccel_hit* out, Trace trace) {
+  check_batch(accel, rays, count, out);
+  const std::vector<rayaccel::Ray> in = to_rays(rays, count);
+  std::vector<rayaccel::Hit> hits(count);
+  trace(*accel->structure, std::span<const rayaccel::Ray>(in), std::span<rayaccel::Hit>(hits));
+  const rayaccel::GeometryTable& table = accel->scene->geometries;
+  for (size_t i = 0; i < count; ++i) out[i] = to_hit(hits[i], table);
+}
+
+template <class Trace>
+void trace_occluded(const rayaccel_accel* accel, const rayaccel_ray* rays, size_t count, uint8_t* out, Trace trace) {
+  check_batch(accel, rays, count, out);
+  const std::vector<rayaccel::Ray> in = to_rays(rays, count);
+  trace(*accel->structure, std::span<const rayaccel::Ray>(in), std::span<std::uint8_t>(out, count));
+}
+
+}  // namespace
+
+extern "C" rayaccel_status rayaccel_accel_new(rayaccel_scene* scene, const char* spec, rayaccel_accel** out) {
+  return guarded("rayaccel_accel_new", [&] {
+    require(scene, "scene");
+    require(spec, "spec");
+    require(out, "out");
+    *out = nullptr;
+    auto& state = *scene->state;
+    {
+      const std::lock_guard lock(state.mutex);
+      if (!state.scene) {
+        rayaccel::GeometryTable table;
+        state.scene.emplace(rayaccel::scene_from_meshes(state.meshes, table, "c_api"));
+        state.geometries = std::move(table);  // the same ids add_mesh recorded
+        state.meshes.clear();
+        state.meshes.shrink_to_fit();
+      }
+    }
+    auto accel = std::make_unique<rayaccel_accel>();
+    accel->scene = scene->state;
+    accel->structure = rayaccel::make_accelerator(spec);
+    accel->structure->build(*state.scene);
+    *out = accel.release();
+  });
+}
+
+extern "C" void rayaccel_accel_release(rayaccel_accel* accel) { delete accel; }
+
+extern "C" rayaccel_status rayaccel_intersect1(const rayaccel_accel* accel, const rayaccel_ray* ray,
+                                               rayaccel_hit* hit) {
+  return guarded("rayaccel_intersect1", [&] {
+    require(accel, "accel");
+    require(ray, "ray");
+    require(hit, "hit");
+    *hit = to_hit(accel->structure->intersect(to_ray(*ray)), accel->scene->geometries);
+  });
+}
+
+extern "C" rayaccel_status rayaccel_occluded1(const rayaccel_accel* accel, const rayaccel_ray* ray, int* occluded) {
+  return guarded("rayaccel_occluded1", [&] {
+    require(accel, "accel");
+    require(ray, "ray");
+    require(occluded, "occluded");
+    *occluded = accel->structure->occluded(to_ray(*ray)) ? 1 : 0;
+  });
+}
+
+extern "C" rayaccel_status rayaccel_intersect(const rayaccel_accel* accel, const rayaccel_ray* rays, size_t count,
+                                              rayaccel_hit* hits) {
+  return guarded("rayaccel_intersect", [&] {
+    trace_hits(accel, rays, count, hits, [](const rayaccel::Accelerator& a, auto in, auto out) { a.intersect(in, out); });
+  });
+}
+
+extern "C" rayaccel_status rayaccel_occluded(const rayaccel_accel* accel, const rayaccel_ray* rays, size_t count,
+                                             uint8_t* occluded) {
+  return guarded("rayaccel_occluded", [&] {
+    trace_occluded(accel, rays, count, occluded,
+                   [](const rayaccel::Accelerator& a, auto in, auto out) { a.occluded(in, out); });
+  });
+}
+
+extern "C" rayaccel_status rayaccel_intersect_packets(const rayaccel_accel* accel, const rayaccel_ray* rays,
+                                                      size_t count, rayaccel_hit* hits) {
+  return guarded("rayaccel_intersect_packets", [&] {
+    trace_hits(accel, rays, count, hits,
+               [](const rayaccel::Accelerator& a, auto in, auto out) { a.intersect_packets(in, out); });
+  });
+}
+
+extern "C" rayaccel_status rayaccel_occluded_packets(const rayaccel_accel* accel, const rayaccel_ray* rays,
+                                                     size_t count, uint8_t* occluded) {
+  return guarded("rayaccel_occluded_packets", [&] {
+    trace_occluded(accel, rays, count, occluded,
+                   [](const rayaccel::Accelerator& a, auto in, auto out) { a.occluded_packets(in, out); });
+  });
+}
