@@ -25,7 +25,7 @@ except ImportError as error:  # pragma: no cover - depends on the installation
 
 from . import Accelerator, Scene, builtin_scenes, load, mesh
 from ._cache import accelerator, cache_info, clear_cache, set_cache_size
-from ._rays import HIT_DTYPE
+from ._hits import HIT_DTYPE
 
 __all__ = ["SceneSource", "cache_info", "clear_cache", "intersect", "occluded", "set_cache_size"]
 
