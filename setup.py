@@ -52,6 +52,7 @@ setup(
     description="Exact ray queries over triangle meshes and spheres with every classic acceleration structure",
     packages=["rayaccel"],
     package_dir={"": "python"},
+    package_data={"rayaccel": ["py.typed", "*.pyi"]},  # PEP 561: the type stubs ship with the package
     ext_modules=[Extension("rayaccel._core", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
     python_requires=">=3.9",

@@ -20,8 +20,9 @@ import numpy as np
 
 from . import _core
 from ._core import DoubleScene, Scene, __version__, packet_tile_order, set_threads, specs, threads
-from ._rays import HIT64_DTYPE, HIT_DTYPE, MISS, Hits, TraversalStats, as_rays
-from ._instances import IHIT_DTYPE, InstancedAccelerator, InstancedScene, build_instanced
+from ._hits import HIT64_DTYPE, HIT_DTYPE, IHIT_DTYPE, MISS, Hits, TraversalStats
+from ._rays import as_points, as_rays, real_array
+from ._instances import InstancedAccelerator, InstancedScene, build_instanced
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
 __all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "HIT64_DTYPE", "HIT_DTYPE",
@@ -35,22 +36,11 @@ CLOSEST_DTYPE = np.dtype([("point", "<f4", (3,)), ("distance", "<f4"), ("prim_id
                           ("v", "<f4")])
 
 
-def _points(points):
-    """(flat (N, 3) float32 array, leading shape) from a (..., 3) float32/float64 array."""
-    if not isinstance(points, np.ndarray):
-        raise TypeError(f"points must be a numpy array of shape (..., 3), not {type(points).__name__}")
-    if points.dtype not in (np.float32, np.float64):
-        raise TypeError(f"points must be float32 or float64, not {points.dtype}")
-    if points.ndim < 1 or points.shape[-1] != 3:
-        raise ValueError(f"points must have shape (..., 3), not {points.shape}")
-    return np.ascontiguousarray(points.reshape(-1, 3), dtype=np.float32), points.shape[:-1]
-
-
 def winding_numbers(scene, points):
     """Generalised winding numbers (Jacobson et al. 2013) of (..., 3) points with respect to a triangle scene,
     float64 shaped like the points: 1 inside a closed outward-oriented mesh, 0 outside, 1/2 on its surface, smooth
     in between where the mesh has holes. A direct sum over every triangle (O(triangles) per point)."""
-    flat, shape = _points(points)
+    flat, shape = as_points(points)
     return _core._winding_numbers(scene, flat).reshape(shape)
 
 
@@ -63,7 +53,8 @@ def __getattr__(name):
 
 
 def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False, copy=True):
-    """A triangle scene from (N, 3) float32/float64 vertices and (M, 3) int32/uint32/int64 triangles.
+    """A triangle scene from (N, 3) float32/float64 vertices and (M, 3) int32/uint32/int64 triangles (array-likes:
+    lists, and integer vertices, are converted as np.asarray does).
 
     Every index is checked against N; a NaN or infinite vertex raises ValueError unless allow_nonfinite (then its
     triangles are kept but never hit). Primitive id = row of triangles. By default the arrays are copied once
@@ -74,7 +65,8 @@ def mesh(vertices, triangles, name="mesh", *, allow_nonfinite=False, copy=True):
     """
     if not copy:
         return _core._mesh_in_place(vertices, triangles, str(name), bool(allow_nonfinite))
-    return _core._mesh(vertices, triangles, str(name), bool(allow_nonfinite))
+    return _core._mesh(real_array(vertices, "vertices", np.float64), np.asarray(triangles), str(name),
+                       bool(allow_nonfinite))
 
 
 def meshes(pairs, name="meshes"):
@@ -86,7 +78,8 @@ def meshes(pairs, name="meshes"):
 
 def spheres(centers, radii, name="spheres"):
     """A scene of analytic spheres: (N, 3) float centers, radii a float or an (N,) float array (finite, > 0)."""
-    return _core._spheres(centers, radii, str(name))
+    radii = real_array(radii, "radii")
+    return _core._spheres(real_array(centers, "centers"), float(radii) if radii.ndim == 0 else radii, str(name))
 
 
 def load(spec):
@@ -133,9 +126,12 @@ class Accelerator(_core._Accelerator):
 
     The structure keeps its scene alive. Queries on an unbuilt one raise ValueError. Rays are a (..., 8) array in
     the .rays layout (float32, ox oy oz tmin dx dy dz tmax; an (N, 8) float32 C-contiguous array is read in place),
-    or origins and directions ((..., 3), origins possibly one (3,) point) with t_min and t_max (scalars or arrays).
-    A hit counts when t_min < t <= t_max. Rays with a NaN or infinite origin or direction, a zero direction or a NaN
-    t bound raise ValueError; with check=False they are traced as misses, as the C++ library and CLI do.
+    a (..., 6) array in Open3D's layout (ox oy oz dx dy dz), or origins and directions ((..., 3)) with t_min and
+    t_max (defaults 0 and inf); origins, directions, t_min and t_max broadcast as numpy arrays do. Any array-like
+    works (lists; integers are cast to float). A hit counts when t_min < t <= t_max; a batch in which no ray has
+    t_max > t_min draws a UserWarning (a zero-filled array, or columns in another order). Rays with a NaN or
+    infinite origin or direction, a zero direction or a NaN t bound raise ValueError; with check=False they are
+    traced as misses, as the C++ library and CLI do.
     """
 
     def __init__(self, spec="bvh_wide"):
@@ -197,19 +193,19 @@ class Accelerator(_core._Accelerator):
         """The closest point of the scene to each of (..., 3) points within max_distance: a CLOSEST_DTYPE array
         shaped like the points (point, distance, prim_id, u, v; prim_id = MISS and distance = inf when nothing is
         within reach). Branch and bound over the structure; the same distances as brute force, bit for bit."""
-        flat, shape = _points(points)
+        flat, shape = as_points(points)
         return self._closest_points(flat, float(max_distance)).reshape(-1).view(CLOSEST_DTYPE).reshape(shape)
 
     def inside(self, points, ray_count=3):
         """Crossing-parity inside test of (..., 3) points (majority of ray_count rays, odd, 1..7): bool shaped like
         the points. Exact for closed meshes off their surface; see winding_numbers() for open ones."""
-        flat, shape = _points(points)
+        flat, shape = as_points(points)
         return self._inside(flat, int(ray_count)).reshape(shape)
 
     def signed_distance(self, points, ray_count=3):
         """Distance to the scene of (..., 3) points, negative inside (inside() decides): float32 shaped like the
         points. Meant for closed meshes."""
-        flat, shape = _points(points)
+        flat, shape = as_points(points)
         return self._signed_distance(flat, int(ray_count)).reshape(shape)
 
 
@@ -225,10 +221,13 @@ def build(scene, spec="bvh_wide"):
 
 def mesh_double(vertices, triangles):
     """A DoubleScene for the double-precision path: (N, 3) float64 vertices, kept bit for bit, and (M, 3)
-    int32/uint32/int64 triangles (copied once). TypeError for another dtype, ValueError for a bad shape, an index out
-    of range, or a coordinate outside the double domain (NaN, infinite, or nonzero with magnitude outside
-    [2^-64, 2^64]), naming it."""
-    return _core._mesh_double(vertices, triangles)
+    int32/uint32/int64 triangles (copied once; lists and integer vertices are converted). TypeError for another
+    dtype, ValueError for a bad shape, an index out of range, or a coordinate outside the double domain (NaN,
+    infinite, or nonzero with magnitude outside [2^-64, 2^64]), naming it."""
+    vertices = np.asarray(vertices)
+    if vertices.dtype.kind in "iu":  # exact in float64; float32 stays refused (its bits are lost already)
+        vertices = vertices.astype(np.float64)
+    return _core._mesh_double(vertices, np.asarray(triangles))
 
 
 class DoubleAccelerator(_core._DoubleAccelerator):

@@ -6,17 +6,13 @@ levels").
     g = iscene.add_geometry(rayaccel.load("bunny.ply"))
     iscene.add_instance(g, np.eye(4))                 # (3, 4) or (4, 4) object-to-world transform
     accel = rayaccel.build_instanced(iscene, bottom="bvh_wide", top="bvh_top")
-    hits = accel.intersect(origins, directions)       # IHIT_DTYPE: t, prim_id, u, v, geom_id, instance_id
+    hits = accel.intersect(origins, directions)       # Hits: t, prim_id, u, v, geom_id, instance_id
 """
 import numpy as np
 
 from . import _core
+from ._hits import IHIT_DTYPE, Hits
 from ._rays import as_rays
-
-#: One closest hit of an instanced trace, the 24-byte layout of the CLI's .ihits file (a miss: t = inf, every id
-#: MISS, u = v = 0).
-IHIT_DTYPE = np.dtype([("t", "<f4"), ("prim_id", "<u4"), ("u", "<f4"), ("v", "<f4"), ("geom_id", "<u4"),
-                       ("instance_id", "<u4")])
 
 
 class InstancedScene(_core._InstancedScene):
@@ -34,6 +30,24 @@ class InstancedScene(_core._InstancedScene):
             transform = np.eye(3, 4)
         return self._add_instance(int(geometry), transform, None if instance_id is None else int(instance_id))
 
+    def flatten(self):
+        """Every instance's triangles in world space as one triangle Scene (vertices mapped by the instance's
+        transform in float64, rounded to float32), instance after instance: instance i's primitive p has id
+        offsets[i] + p, offsets = cumsum of the placed geometries' primitive counts, starting at 0. For the queries
+        a two-level structure does not answer (closest_points, inside, ...). ValueError for a sphere geometry."""
+        vertices, triangles, base = [], [], 0
+        for i in range(self.instance_count):
+            geometry = self.geometry(self.geometry_of(i))
+            if geometry.kind != "triangles":
+                raise ValueError(f"flatten() maps triangles; instance {i} places a {geometry.kind} geometry")
+            m = self.transform(i)
+            vertices.append((geometry.vertices.astype(np.float64) @ m[:, :3].T + m[:, 3]).astype(np.float32))
+            triangles.append(geometry.triangles.astype(np.int64) + base)
+            base += len(geometry.vertices)
+        if not vertices:
+            return _core._mesh(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32), "flattened", False)
+        return _core._mesh(np.concatenate(vertices), np.concatenate(triangles), "flattened", True)
+
     def __repr__(self):
         return f"<rayaccel.InstancedScene {self.geometry_count} geometries, {self.instance_count} instances>"
 
@@ -50,15 +64,41 @@ class InstancedAccelerator(_core._InstancedAccelerator):
         return f"<rayaccel.InstancedAccelerator bottom '{self.bottom}', top '{self.top}'>"
 
     def intersect(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
-        """Closest hits: an IHIT_DTYPE array shaped like the rays (t, prim_id within the geometry, u, v, geom_id,
-        instance_id; MISS ids and t = inf where nothing is hit)."""
+        """Closest hits as Hits over IHIT_DTYPE records, shaped like the rays: t, prim_id within the geometry, u, v,
+        and geom_id, instance_id (MISS ids and t = inf where nothing is hit; hits.tobytes() is an .ihits file)."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
-        return self._intersect(flat, bool(check)).reshape(-1).view(IHIT_DTYPE).reshape(shape)
+        return Hits(self._intersect(flat, bool(check)), shape, dtype=IHIT_DTYPE)
 
     def occluded(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
         """Any hit: a bool array shaped like the rays."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
         return self._occluded(flat, bool(check)).reshape(shape)
+
+    def _not_two_level(self, query):
+        raise NotImplementedError(
+            f"{query}() is not answered by a two-level structure (InstancedAccelerator answers intersect() and "
+            f"occluded()); build a plain structure over the flattened instances instead: "
+            f"rayaccel.build(instanced_scene.flatten()).{query}(...)")
+
+    def closest_points(self, points, max_distance=np.inf):
+        """Not answered by a two-level structure: raises NotImplementedError (see InstancedScene.flatten())."""
+        self._not_two_level("closest_points")
+
+    def inside(self, points, ray_count=3):
+        """Not answered by a two-level structure: raises NotImplementedError (see InstancedScene.flatten())."""
+        self._not_two_level("inside")
+
+    def signed_distance(self, points, ray_count=3):
+        """Not answered by a two-level structure: raises NotImplementedError (see InstancedScene.flatten())."""
+        self._not_two_level("signed_distance")
+
+    def all_hits(self, rays, directions=None, t_min=None, t_max=None, *, max_hits=2**32 - 1, check=True):
+        """Not answered by a two-level structure: raises NotImplementedError (see InstancedScene.flatten())."""
+        self._not_two_level("all_hits")
+
+    def count_hits(self, rays, directions=None, t_min=None, t_max=None, *, check=True):
+        """Not answered by a two-level structure: raises NotImplementedError (see InstancedScene.flatten())."""
+        self._not_two_level("count_hits")
 
 
 def build_instanced(scene, bottom="bvh_wide", top="bvh_top"):

@@ -1,108 +1,116 @@
-"""Ray arrays in the .rays layout and the result types of queries (Hits, TraversalStats).
+"""Rays and points as numpy users pass them: array-likes (np.asarray; integer arrays cast to floating point), numpy
+broadcasting of origins, directions, t_min and t_max, and two ray layouts: the .rays record (..., 8) and Open3D's
+(..., 6). A batch in which no ray can hit anything (every t_max <= t_min) draws a UserWarning.
 
-A ray array has shape (..., 8), float32: ox oy oz tmin dx dy dz tmax, the 32-byte record of the CLI's .rays files.
-Hit records have the 16-byte .hits layout (HIT_DTYPE), so ``hits.records.tobytes()`` is a .hits file. The double
-path's rays are float64 (the 64-byte .rays64 record) and its hits the 32-byte .hits64 records (HIT64_DTYPE).
+The .rays record is ox oy oz tmin dx dy dz tmax (32 bytes in float32, the CLI's .rays files; 64 in float64, .rays64).
 """
+import sys
+import warnings
+
 import numpy as np
 
-HIT_DTYPE = np.dtype([("t", "<f4"), ("prim_id", "<u4"), ("u", "<f4"), ("v", "<f4")])
-#: The .hits64 record: float64 t, uint32 prim_id, 4 bytes of zero padding, float64 u, float64 v.
-HIT64_DTYPE = np.dtype({"names": ["t", "prim_id", "u", "v"], "formats": ["<f8", "<u4", "<f8", "<f8"],
-                        "offsets": [0, 8, 16, 24], "itemsize": 32})
-MISS = 0xFFFFFFFF  # prim_id of a miss
+RAYS_LAYOUT = "ox oy oz tmin dx dy dz tmax"
 _FLOATS = (np.dtype(np.float32), np.dtype(np.float64))
+_SAMPLE = 1024  # rays looked at before the whole batch is (a batch with a usable ray there costs nothing more)
 
 
-def _float_array(value, name):
+def real_array(value, name, dtype=np.float32):
+    """np.asarray(value), float32 and float64 kept as they are (the bindings convert them), integers and other float
+    widths cast to `dtype`; TypeError naming `name` for anything that is not a real number."""
     array = np.asarray(value)
-    if array.dtype not in _FLOATS:
-        raise TypeError(f"{name} must be float32 or float64, not {array.dtype}")
-    return array
+    if array.dtype in _FLOATS:
+        return array
+    if array.dtype.kind in "iuf":
+        return array.astype(dtype)
+    raise TypeError(f"{name} must be real numbers (float or integer), not {array.dtype}")
+
+
+def as_points(points, name="points"):
+    """(flat (N, 3) float32 C-contiguous array, leading shape) from (..., 3) array-like points."""
+    array = real_array(points, name)
+    if array.ndim < 1 or array.shape[-1] != 3:
+        raise ValueError(f"{name} must have shape (..., 3), not {array.shape}")
+    return np.ascontiguousarray(array.reshape(-1, 3), dtype=np.float32), array.shape[:-1]
 
 
 def as_rays(rays, directions=None, t_min=None, t_max=None, dtype=np.float32):
-    """Returns (flat (N, 8) ray array, leading shape) from a (..., 8) ray array, or from origins and directions.
+    """Returns (flat (N, 8) ray array, leading shape) from one of:
 
-    origins and directions have shape (..., 3) (origins may be one point, shape (3,)); t_min and t_max are scalars
-    or arrays of the leading shape (defaults 0 and +inf), assembled into a `dtype` array (float64 for the double
-    path). An (N, 8) C-contiguous array of `dtype` is used as is.
+    - rays (..., 8) in the .rays layout (an (N, 8) C-contiguous array of `dtype` is used as is, no copy);
+    - rays (..., 6), Open3D's ox oy oz dx dy dz, with t_min and t_max (defaults 0 and +inf);
+    - origins (..., 3) and directions (..., 3) with t_min and t_max.
+    In the last two, origins, directions, t_min and t_max broadcast against each other by numpy's rules (the last
+    axis of origins and directions being x y z), and are assembled into a `dtype` array (float64 for the double path).
     """
     if directions is None:
-        if not isinstance(rays, np.ndarray):
-            raise TypeError(f"rays must be a numpy array of shape (..., 8), not {type(rays).__name__}")
+        rays = real_array(rays, "rays", dtype)
+        columns = rays.shape[-1] if rays.ndim else None
+        if columns == 6:
+            return _assemble(rays[..., 0:3], rays[..., 3:6], t_min, t_max, dtype)
         if t_min is not None or t_max is not None:
             raise TypeError("t_min and t_max are columns 3 and 7 of a (..., 8) ray array; pass them only with "
-                            "origins and directions")
-        _float_array(rays, "rays")
-        if rays.ndim < 1 or rays.shape[-1] != 8:
-            raise ValueError(f"rays must have shape (..., 8) in the .rays layout (ox oy oz tmin dx dy dz tmax), "
-                             f"not {rays.shape}")
-        return rays.reshape(-1, 8), rays.shape[:-1]
-    origins = _float_array(rays, "origins")
-    directions = _float_array(directions, "directions")
-    if directions.ndim < 1 or directions.shape[-1] != 3:
-        raise ValueError(f"directions must have shape (..., 3), not {directions.shape}")
-    if origins.shape != directions.shape and origins.shape != (3,):
-        raise ValueError(f"origins must have the shape of directions {directions.shape} (or (3,) for one origin), "
-                         f"not {origins.shape}")
-    lead = directions.shape[:-1]
+                            "origins and directions, or with (..., 6) rays")
+        if columns != 8:
+            raise ValueError(f"rays must have shape (..., 8) in the .rays layout ({RAYS_LAYOUT}) or (..., 6) "
+                             f"(ox oy oz dx dy dz, Open3D's, t from 0 to inf), not {rays.shape}")
+        flat = rays.reshape(-1, 8)
+        _warn_about_layout(flat)
+        return flat, rays.shape[:-1]
+    return _assemble(real_array(rays, "origins", dtype), real_array(directions, "directions", dtype), t_min, t_max,
+                     dtype)
+
+
+def _assemble(origins, directions, t_min, t_max, dtype):
+    for array, name in ((origins, "origins"), (directions, "directions")):
+        if array.ndim < 1 or array.shape[-1] != 3:
+            raise ValueError(f"{name} must have shape (..., 3), not {array.shape}")
+    t_min = real_array(0.0 if t_min is None else t_min, "t_min", dtype)
+    t_max = real_array(np.inf if t_max is None else t_max, "t_max", dtype)
+    try:
+        lead = np.broadcast_shapes(origins.shape[:-1], directions.shape[:-1], t_min.shape, t_max.shape)
+    except ValueError as error:
+        raise ValueError(f"origins {origins.shape}, directions {directions.shape}, t_min {t_min.shape} and t_max "
+                         f"{t_max.shape} do not broadcast together (numpy's rules; origins and directions without "
+                         f"their last axis, x y z): {error}") from None
     out = np.empty(lead + (8,), dtype=dtype)
     out[..., 0:3] = origins
+    out[..., 3] = t_min
     out[..., 4:7] = directions
-    for column, value, default, name in ((3, t_min, 0.0, "t_min"), (7, t_max, np.inf, "t_max")):
-        if value is None:
-            value = default
-        elif isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
-            value = _float_array(value, name)
-            if value.ndim != 0 and value.shape != lead:
-                raise ValueError(f"{name} must be a scalar or have shape {lead}, not {value.shape}")
-        out[..., column] = value
-    return out.reshape(-1, 8), lead
+    out[..., 7] = t_max
+    flat = out.reshape(-1, 8)
+    if not _some_range_open(flat):
+        _warn(f"no ray of this batch of {len(flat)} has t_max > t_min, so none can hit anything (t_min {t_min.shape} "
+              f"min {np.min(t_min) if t_min.size else 'none'}, t_max {t_max.shape} max "
+              f"{np.max(t_max) if t_max.size else 'none'}; a hit counts when t_min < t <= t_max)")
+    return flat, lead
 
 
-class TraversalStats:
-    """Per-ray traversal cost: nodes (or cells) entered and primitives tested; cost is their sum (the heat map's)."""
-
-    def __init__(self, counts, shape):
-        self.nodes_visited = counts[:, 0].reshape(shape)
-        self.primitives_tested = counts[:, 1].reshape(shape)
-
-    @property
-    def cost(self):
-        return self.nodes_visited + self.primitives_tested
+def _some_range_open(flat):
+    """True when some ray has t_max > t_min (or the batch is empty); reads only a sample when one is found there."""
+    head = flat[:_SAMPLE]
+    return len(flat) == 0 or bool(np.any(head[:, 7] > head[:, 3])) or bool(np.any(flat[:, 7] > flat[:, 3]))
 
 
-class Hits:
-    """Closest hits of a batch, shaped like the rays' leading dimensions.
+def _warn_about_layout(flat):
+    """Warns about a (..., 8) array that cannot be in the .rays layout: no ray with t_max > t_min (a zero-filled
+    array, t_max left at 0), or unit vectors in columns 3-5 with a negative column 3 in every sampled ray (the
+    directions where t_min and dx belong: np.hstack([origins, directions, t_min, t_max]))."""
+    columns = (f"an (N, 8) array is read in the .rays layout, {RAYS_LAYOUT}: t_min is column 3 and t_max column 7 "
+               f"(np.hstack([origins, directions, t_min, t_max]) puts the directions in columns 3-5 and t_min, t_max "
+               f"in 6 and 7; pass intersect(origins, directions, t_min, t_max) for separate arrays, or (N, 6) rays "
+               f"ox oy oz dx dy dz)")
+    if not _some_range_open(flat):
+        _warn(f"no ray of this batch of {len(flat)} has t_max > t_min, so none can hit anything: {columns}")
+        return
+    head = flat[:_SAMPLE].astype(np.float64)
+    if np.any(head[:, 3] < 0) and np.all(np.abs(np.sum(head[:, 3:6] ** 2, axis=1) - 1.0) < 1e-3):
+        _warn(f"columns 3-5 of every ray hold a unit vector and column 3 is negative in some: this looks like "
+              f"directions in the t_min column; {columns}")
 
-    t (inf at a miss), prim_id (MISS = 0xFFFFFFFF at a miss), u, v (barycentrics, p = (1-u-v) v0 + u v1 + v v2) are
-    views of ``records`` (HIT_DTYPE, the .hits layout). points and normals ((..., 3) float32, NaN at misses) are set
-    when asked for; stats (TraversalStats) too.
-    """
 
-    def __init__(self, records, shape, points=None, normals=None, stats=None, dtype=HIT_DTYPE):
-        self.records = records.view(dtype).reshape(shape)
-        self.points = None if points is None else points.reshape(shape + (3,))
-        self.normals = None if normals is None else normals.reshape(shape + (3,))
-        self.stats = stats
-
-    t = property(lambda self: self.records["t"])
-    prim_id = property(lambda self: self.records["prim_id"])
-    u = property(lambda self: self.records["u"])
-    v = property(lambda self: self.records["v"])
-
-    @property
-    def hit(self):
-        """True where the ray hit something."""
-        return self.records["prim_id"] != MISS
-
-    def __len__(self):
-        return len(self.records)
-
-    def __repr__(self):
-        return f"<rayaccel.Hits {self.records.shape}: {int(np.count_nonzero(self.hit))} hits>"
-
-    def tobytes(self):
-        """The records as a .hits file's bytes (.hits64 for the double path's hits)."""
-        return self.records.tobytes()
+def _warn(message):
+    """A UserWarning attributed to the first caller outside the rayaccel package."""
+    frame, level = sys._getframe(1), 2
+    while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] == "rayaccel":
+        frame, level = frame.f_back, level + 1
+    warnings.warn(f"rayaccel: {message}", UserWarning, stacklevel=level)

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
-from ._rays import HIT_DTYPE, as_rays
+from ._hits import HIT_DTYPE
+from ._rays import as_rays
 
 
 def _point(value, name):

@@ -41,5 +41,6 @@ void bind_accelerator(py::module_& m);  // accel_bindings.cpp
 void bind_render(py::module_& m);       // render_bindings.cpp
 void bind_double(py::module_& m);       // double_bindings.cpp
 void bind_instances(py::module_& m);    // instance_bindings.cpp
+void bind_saved(py::module_& m);        // saved_bindings.cpp
 
 }  // namespace rayaccel::python

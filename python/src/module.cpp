@@ -63,6 +63,7 @@ PYBIND11_MODULE(_core, m) {
   bind_double(m);
   bind_instances(m);
   bind_geometry(m);
+  bind_saved(m);
 
   m.def("set_threads", &set_threads, py::arg("threads"),
         "Limits every build and batch to this many worker threads (0: all cores, TBB's default).");

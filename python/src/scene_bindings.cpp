@@ -1,8 +1,11 @@
 // Scenes for Python: triangle meshes from numpy arrays (checked, converted once), mesh files and built-in scenes
-// through load_scene(), and spheres. The C++ Scene owns its arrays, so input arrays are copied once into it.
+// through load_scene(), and spheres. The C++ Scene owns its arrays, so input arrays are copied once into it; Python
+// reads them back as read-only numpy views (vertices, triangles, centers, radii) that keep the scene alive.
 #include <pybind11/stl.h>
 
+#include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,8 +57,20 @@ std::shared_ptr<Scene> mesh_scene(const py::handle& vertices, const py::handle& 
   return std::make_shared<Scene>(Scene::from_mesh(std::move(mesh), std::move(name)));
 }
 
+/// The deleter of a scene over the caller's arrays: holds a reference to both (released under the GIL), so they live
+/// as long as the scene; the scene's views find them through std::get_deleter.
+struct KeepArrays {
+  py::object vertices, triangles;
+  void operator()(Scene* scene) {
+    delete scene;
+    py::gil_scoped_acquire gil;
+    vertices = py::object();
+    triangles = py::object();
+  }
+};
+
 /// A scene over the caller's arrays, read in place (Scene::from_buffers): float32 (N, 3) and int32/uint32 (M, 3),
-/// both C-contiguous. The scene holds a reference to both arrays (released under the GIL), so they live as long as it.
+/// both C-contiguous, kept alive by the scene (KeepArrays).
 std::shared_ptr<Scene> mesh_scene_in_place(const py::handle& vertices, const py::handle& triangles, std::string name,
                                            bool allow_nonfinite) {
   if (!py::isinstance<py::array>(vertices)) throw TypeError("vertices must be a numpy array");
@@ -97,13 +112,7 @@ std::shared_ptr<Scene> mesh_scene_in_place(const py::handle& vertices, const py:
   buffers.triangle_count = static_cast<std::size_t>(t.shape(0));
   buffers.index_type = IndexType::uint32;
   auto* scene = new Scene(Scene::from_buffers(buffers, std::move(name)));
-  py::object keep_vertices = v, keep_triangles = t;
-  return std::shared_ptr<Scene>(scene, [keep_vertices, keep_triangles](Scene* s) mutable {
-    delete s;
-    py::gil_scoped_acquire gil;
-    keep_vertices = py::object();
-    keep_triangles = py::object();
-  });
+  return std::shared_ptr<Scene>(scene, KeepArrays{v, t});
 }
 
 std::shared_ptr<Scene> sphere_scene(const py::handle& centers, const py::handle& radii, std::string name) {
@@ -161,6 +170,70 @@ py::array_t<float> bounds_array(const Scene& scene) {
   return out;
 }
 
+/// A read-only (rows, columns) numpy view of Scalar data `stride` bytes apart per row, whose base is the Python
+/// Scene of `scene` (so the view keeps the scene alive); columns == 0 gives a 1-D (rows,) view.
+template <class Scalar>
+py::array readonly_view(const std::shared_ptr<Scene>& scene, const void* data, std::size_t rows, py::ssize_t columns,
+                        py::ssize_t stride) {
+  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(rows)}, strides{stride};
+  if (columns > 0) {
+    shape.push_back(columns);
+    strides.push_back(sizeof(Scalar));
+  }
+  py::array view(py::dtype::of<Scalar>(), shape, strides, data, py::cast(scene));
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
+}
+
+/// A read-only view of one of the caller's arrays of a copy=False scene, as `dtype` (int32 indices read as uint32,
+/// as the scene reads them; they were checked to be nonnegative).
+py::array readonly_view_of(const py::object& array, const py::dtype& dtype) {
+  py::array view = array.attr("view")(dtype);
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
+}
+
+void require_kind(const Scene& scene, PrimitiveKind kind, const char* what) {
+  if (scene.kind() == kind) return;
+  const std::string has = scene.kind() == PrimitiveKind::spheres ? " (a sphere scene has centers and radii)"
+                          : scene.kind() == PrimitiveKind::triangles ? " (a triangle scene has vertices and triangles)"
+                                                                     : "";
+  throw py::attribute_error("a scene of " + std::string(to_string(scene.kind())) + " has no " + what + has);
+}
+
+py::array vertices_view(const std::shared_ptr<Scene>& scene) {
+  require_kind(*scene, PrimitiveKind::triangles, "vertices");
+  if (const auto* keep = std::get_deleter<KeepArrays>(scene)) {
+    return readonly_view_of(keep->vertices, py::dtype::of<float>());
+  }
+  const auto& vertices = scene->mesh().vertices;
+  static_assert(sizeof(Vec3) == 3 * sizeof(float));
+  return readonly_view<float>(scene, vertices.data(), vertices.size(), 3, sizeof(Vec3));
+}
+
+py::array triangles_view(const std::shared_ptr<Scene>& scene) {
+  require_kind(*scene, PrimitiveKind::triangles, "triangles");
+  if (const auto* keep = std::get_deleter<KeepArrays>(scene)) {
+    return readonly_view_of(keep->triangles, py::dtype::of<std::uint32_t>());
+  }
+  const auto& triangles = scene->mesh().triangles;
+  return readonly_view<std::uint32_t>(scene, triangles.data(), triangles.size(), 3, sizeof(triangles[0]));
+}
+
+py::array centers_view(const std::shared_ptr<Scene>& scene) {
+  require_kind(*scene, PrimitiveKind::spheres, "centers");
+  const auto& spheres = scene->spheres();
+  return readonly_view<float>(scene, spheres.data(), spheres.size(), 3, sizeof(Sphere));
+}
+
+py::array radii_view(const std::shared_ptr<Scene>& scene) {
+  require_kind(*scene, PrimitiveKind::spheres, "radii");
+  const auto& spheres = scene->spheres();
+  static_assert(sizeof(Sphere) == 4 * sizeof(float) && offsetof(Sphere, radius) == 3 * sizeof(float));
+  return readonly_view<float>(scene, reinterpret_cast<const char*>(spheres.data()) + offsetof(Sphere, radius),
+                              spheres.size(), 0, sizeof(Sphere));
+}
+
 }  // namespace
 
 void bind_scene(py::module_& m) {
@@ -178,6 +251,15 @@ void bind_scene(py::module_& m) {
       .def("arrays_changed", &Scene::buffers_changed,
            "After writing new vertex positions into the arrays of a copy=False scene: re-reads them (then rebuild)")
       .def_property_readonly("bounds", &bounds_array, "(2, 3) float32: min and max corner (NaN when empty)")
+      .def_property_readonly("vertices", &vertices_view,
+                             "(V, 3) float32, read-only, no copy: the triangle scene's vertices (a copy=False scene's "
+                             "own array). AttributeError for a sphere scene")
+      .def_property_readonly("triangles", &triangles_view,
+                             "(T, 3) uint32, read-only, no copy: vertex indices of each triangle (primitive id = row)")
+      .def_property_readonly("centers", &centers_view,
+                             "(N, 3) float32, read-only, no copy: the sphere scene's centers. AttributeError for a "
+                             "triangle scene")
+      .def_property_readonly("radii", &radii_view, "(N,) float32, read-only, no copy: the sphere scene's radii")
       .def("__len__", [](const Scene& s) { return s.primitive_count(); })
       .def("__repr__", [](const Scene& s) {
         return "<rayaccel.Scene '" + s.name() + "': " + std::to_string(s.primitive_count()) + " " +

@@ -172,6 +172,7 @@ def test_client_side_errors(tmp_path, soup_arrays):
         rd.intersect(BUILTIN, [[0.0] * 8])
 
 
+@pytest.mark.filterwarnings("ignore:rayaccel. no ray of this batch:UserWarning")  # zero rays, on purpose
 def test_worker_side_errors_reach_the_client(tmp_path):
     garbage = tmp_path / "garbage.ply"
     garbage.write_text("this is not a mesh\n")
@@ -183,6 +184,43 @@ def test_worker_side_errors_reach_the_client(tmp_path):
     with pytest.raises(ValueError):  # zero-length directions: refused as locally
         rd.occluded(BUILTIN, rays).compute(scheduler="synchronous")
     assert rd.occluded(BUILTIN, rays, check=False).compute(scheduler="synchronous").tolist() == [False] * 10
+
+
+def test_saved_structure_is_loaded_not_built(tmp_path, ply_path):
+    """structure=PATH: every process loads the file saved once (load()'s scene check included) instead of building."""
+    scene = rayaccel.load(ply_path)
+    rays = random_rays(scene, 3000, seed=12)
+    accel = rayaccel.build(scene, "bvh_wide")
+    saved = tmp_path / "soup.bvhw"
+    accel.save(str(saved))
+    lazy = da.from_array(rays, chunks=(1000, 8))
+    rd.clear_cache()
+    found = dask.compute(rd.intersect(ply_path, lazy, structure=saved),
+                         rd.occluded(ply_path, lazy, structure=str(saved)), scheduler="threads")
+    assert_same(*found, accel.intersect(rays).records, accel.occluded(rays))
+    info = rd.cache_info()
+    assert (info["builds"], info["loads"], info["chunks"]) == (0, 1, 6) and info["load_s"] > 0
+    rd.intersect(ply_path, lazy).compute(scheduler="synchronous")
+    assert (rd.cache_info()["builds"], rd.cache_info()["loads"]) == (1, 1)  # without it: built, as before
+
+    other = tmp_path / "soup.bvh"
+    rayaccel.build(scene, "bvh").save(str(other))
+    assert rd.intersect(ply_path, lazy, spec="bvh", structure=other).compute(scheduler="synchronous").tobytes() == \
+        rayaccel.build(scene, "bvh").intersect(rays).records.tobytes()
+    # On the client: a spec that names another structure, a missing file, a file that is not a saved structure.
+    with pytest.raises(ValueError, match=r"holds 'bvh.*not 'bvh_wide'.*pass spec='bvh'"):
+        rd.intersect(ply_path, lazy, structure=other)
+    with pytest.raises(FileNotFoundError, match="structure file .*missing.bvh"):
+        rd.occluded(ply_path, lazy, structure=tmp_path / "missing.bvh")
+    with pytest.raises(ValueError, match="soup.ply' is not one"):
+        rd.intersect(ply_path, lazy, structure=ply_path)
+    with pytest.raises(TypeError, match="structure must be the path"):
+        rd.intersect(ply_path, lazy, structure=42)
+    # On the worker: saved over another scene (load()'s check), and the spec when the client did not read the file.
+    with pytest.raises(ValueError, match="soup.bvhw"):
+        rd.intersect(BUILTIN, lazy, structure=saved).compute(scheduler="synchronous")
+    with pytest.raises(ValueError, match=r"holds 'bvh"):
+        rd.intersect(ply_path, lazy, structure=other, check_source=False).compute(scheduler="synchronous")
 
 
 def test_task_names_and_progress_bar(capsys):
@@ -254,6 +292,20 @@ def test_cluster_arrays_reach_each_worker_once(client, soup_arrays, capsys):
     scene_keys = [k for k in graph if isinstance(k, str) and k.startswith("rayaccel-scene-")]
     assert len(scene_keys) == 1
     assert all(scene_keys[0] in task for k, task in graph.items() if isinstance(k, tuple) and k[0] == hits.name)
+
+
+def test_cluster_loads_a_saved_structure_once_per_worker(client, tmp_path, ply_path):
+    scene = rayaccel.load(ply_path)
+    accel = rayaccel.build(scene)
+    saved = tmp_path / "cluster.bvhw"
+    accel.save(str(saved))
+    rays = random_rays(scene, 8000, seed=13)
+    client.run(rd.clear_cache)
+    found = rd.intersect(ply_path, da.from_array(rays, chunks=(1000, 8)), structure=saved).compute()
+    assert found.tobytes() == accel.intersect(rays).records.tobytes()
+    infos = worker_infos(client)
+    assert sum(i["chunks"] for i in infos) == 8
+    assert all(i["builds"] == 0 and i["loads"] == (1 if i["chunks"] else 0) for i in infos)
 
 
 def test_cluster_errors_are_raised_on_the_client(client, tmp_path):

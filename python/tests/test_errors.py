@@ -16,9 +16,9 @@ def accel():
 
 
 @pytest.mark.parametrize("vertices, triangles, error, message", [
-    (V.astype(np.int32), T, TypeError, "vertices must be float32 or float64, not int32"),
-    (V.astype(np.float16), T, TypeError, "float16"),
-    (V.tolist(), T, TypeError, "vertices must be a numpy array"),
+    (V.astype(np.complex64), T, TypeError, "vertices must be real numbers .*, not complex64"),
+    (V.astype(str), T, TypeError, "vertices must be real numbers"),
+    ([[0, 0, 0], [1, 0]], T, ValueError, "inhomogeneous"),  # numpy's own error for a ragged list
     (V[:, :2], T, ValueError, r"vertices must have shape \(N, 3\), not \(3, 2\)"),
     (V.ravel(), T, ValueError, r"not \(9,\)"),
     (V, T.astype(np.float32), TypeError, "triangles must be int32, uint32 or int64, not float32"),
@@ -90,15 +90,16 @@ def test_unbuilt_structure():
 
 
 @pytest.mark.parametrize("args, kwargs, error, message", [
-    ((RAY.tolist(),), {}, TypeError, "rays must be a numpy array"),
-    ((np.zeros((1, 8), np.int32),), {}, TypeError, "rays must be float32 or float64, not int32"),
+    (([["a"] * 8],), {}, TypeError, "rays must be real numbers"),
+    ((np.zeros((1, 8), np.complex64),), {}, TypeError, r"rays must be real numbers \(float or integer\), not complex64"),
     ((RAY[:, :7],), {}, ValueError, r"rays must have shape \(\.\.\., 8\)"),
     ((RAY,), {"t_max": 1.0}, TypeError, "t_min and t_max are columns"),
-    ((np.zeros((2, 3)), np.zeros((3, 3))), {}, ValueError, "origins must have the shape of directions"),
+    ((np.zeros((2, 3)), np.zeros((3, 3))), {}, ValueError, r"origins \(2, 3\), directions \(3, 3\), t_min \(\) and "
+                                                          r"t_max \(\) do not broadcast together"),
     ((np.zeros(3), np.zeros((2, 2))), {}, ValueError, r"directions must have shape \(\.\.\., 3\)"),
-    ((np.zeros(3), np.ones((2, 3), np.int64)), {}, TypeError, "directions must be float32 or float64, not int64"),
-    ((np.zeros(3), np.ones((2, 3))), {"t_max": np.ones(3)}, ValueError, r"t_max must be a scalar or have shape \(2,\)"),
-    ((np.zeros(3), np.ones((2, 3))), {"t_min": "x"}, TypeError, "t_min must be float32 or float64"),
+    ((np.zeros(3), np.ones((2, 3), bool)), {}, TypeError, "directions must be real numbers .*, not bool"),
+    ((np.zeros(3), np.ones((2, 3))), {"t_max": np.ones(3)}, ValueError, r"t_max \(3,\) do not broadcast together"),
+    ((np.zeros(3), np.ones((2, 3))), {"t_min": "x"}, TypeError, "t_min must be real numbers"),
 ])
 def test_bad_ray_arrays(accel, args, kwargs, error, message):
     for query in (accel.intersect, accel.occluded):

@@ -87,8 +87,9 @@ def _compare(accel, geometries, placements, instance_of, rays):
     round differently in the two), under 1% of the rays; where both name one primitive, t agrees to 1e-4."""
     flat, first = _flatten(geometries, placements)
     ref = rayaccel.build(flat, "brute_force").intersect(rays)
-    got = accel.intersect(rays)
-    assert got.dtype == rayaccel.IHIT_DTYPE and got.shape == (len(rays),)
+    hits = accel.intersect(rays)
+    assert type(hits) is rayaccel.Hits and hits.records.dtype == rayaccel.IHIT_DTYPE and hits.shape == (len(rays),)
+    got = hits.records
     np.testing.assert_array_equal(accel.occluded(rays), got["prim_id"] != rayaccel.MISS)
     ref_found = ref.prim_id != rayaccel.MISS
     placement = np.searchsorted(first, ref.prim_id, side="right") - 1
@@ -126,7 +127,7 @@ def test_matches_flattened_brute_force():
     np.testing.assert_array_equal(got["geom_id"][hit], (got["instance_id"][hit] - 500) % 2)
     # origins and directions give the same answers as the ray array
     rays = _rays(2)
-    np.testing.assert_array_equal(accel.intersect(rays[:, 0:3], rays[:, 4:7]), got)
+    np.testing.assert_array_equal(accel.intersect(rays[:, 0:3], rays[:, 4:7]).records, got)
 
 
 @pytest.mark.parametrize("top", ["bvh_top", "bvh_wide", "kdtree"])
@@ -227,3 +228,37 @@ def test_bad_input_is_a_clear_error():
     assert accel.intersect(bad, check=False)["prim_id"][2] == rayaccel.MISS
     hit = accel.intersect(np.array([[0, 0, -5, 0, 0, 0, 1, np.inf]], dtype=np.float32))
     assert hit["instance_id"][0] == 42 and hit["geom_id"][0] == 0
+
+
+def test_one_result_type_and_the_other_queries_through_flatten():
+    """Instanced hits are the plain accelerator's Hits type with geom_id and instance_id besides; the queries a
+    two-level structure does not answer raise NotImplementedError naming what works, and flatten() gives the one
+    triangle scene to answer them with."""
+    iscene, geometries, placements = _scene(6, 9)
+    accel = rayaccel.build_instanced(iscene)
+    rays = _rays(3, 800)
+    hits, plain = accel.intersect(rays), rayaccel.build(geometries[0][0]).intersect(rays)
+    assert type(hits) is type(plain) is rayaccel.Hits and hits.shape == plain.shape == (800,)
+    for field in rayaccel.IHIT_DTYPE.names:
+        np.testing.assert_array_equal(getattr(hits, field), hits.records[field])
+        np.testing.assert_array_equal(hits[field], hits.records[field])
+    assert 0 < np.count_nonzero(hits.hit) < 800 and len(hits.tobytes()) == 800 * 24
+    with pytest.raises(AttributeError, match="instanced"):
+        plain.geom_id
+    points = np.random.default_rng(2).uniform(-8, 8, (300, 3))
+    for query, args in (("closest_points", (points,)), ("inside", (points,)), ("signed_distance", (points,)),
+                        ("all_hits", (rays,)), ("count_hits", (rays,))):
+        with pytest.raises(NotImplementedError, match=rf"{query}\(\) .*intersect\(\) and occluded\(\).*flatten"):
+            getattr(accel, query)(*args)
+
+    flat = iscene.flatten()
+    ref, _ = _flatten(geometries, placements)
+    np.testing.assert_array_equal(flat.vertices, ref.vertices)
+    np.testing.assert_array_equal(flat.triangles, ref.triangles)
+    np.testing.assert_array_equal(rayaccel.build(flat).closest_points(points)["distance"],
+                                  rayaccel.build(ref, "brute_force").closest_points(points)["distance"])
+    assert rayaccel.InstancedScene().flatten().primitive_count == 0
+    spheres = rayaccel.InstancedScene()
+    spheres.add_instance(spheres.add_geometry(random_spheres()))
+    with pytest.raises(ValueError, match="instance 0 places a spheres geometry"):
+        spheres.flatten()
