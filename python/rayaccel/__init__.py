@@ -19,13 +19,13 @@ import os
 import numpy as np
 
 from . import _core
-from ._core import DoubleScene, Scene, __version__, packet_tile_order, set_threads, specs, threads
+from ._core import DoubleScene, GeometryTable, Scene, __version__, packet_tile_order, set_threads, specs, threads
 from ._hits import HIT64_DTYPE, HIT_DTYPE, IHIT_DTYPE, MISS, Hits, TraversalStats
 from ._rays import as_points, as_rays, real_array
 from ._instances import InstancedAccelerator, InstancedScene, build_instanced
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
-__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "HIT64_DTYPE", "HIT_DTYPE",
+__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "GeometryTable", "HIT64_DTYPE", "HIT_DTYPE",
            "Hits", "IHIT_DTYPE", "InstancedAccelerator", "InstancedScene", "MISS", "Scene", "TraversalStats",
            "__version__", "build", "build_double", "build_instanced", "builtin", "builtin_scenes", "diffuse_rays",
            "heatmap", "load", "mesh", "mesh_double", "meshes", "packet_tile_order", "render", "set_threads", "shadow_rays",

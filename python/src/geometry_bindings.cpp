@@ -17,8 +17,8 @@ using Ids = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast
 /// Applies `map` to every id of an unsigned integer array of any shape; the result has the same shape.
 template <class Map>
 Ids map_ids(const py::handle& object, Map map) {
-  if (!py::isinstance<py::array>(object)) throw TypeError("prim_id must be a numpy array");
-  const auto given = py::reinterpret_borrow<py::array>(object);
+  const auto given = py::array::ensure(object);  // any array-like, as numpy functions take (a list, a scalar)
+  if (!given) throw TypeError("prim_id must be an array of integers");
   if (given.dtype().kind() != 'u' && given.dtype().kind() != 'i') {
     throw TypeError("prim_id must be an integer array, not " + dtype_name(given));
   }

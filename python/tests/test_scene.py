@@ -149,3 +149,4 @@ def test_meshes_keep_each_meshs_geometry_id():
         rayaccel.meshes([parts[0], (parts[0][0][:5], np.array([[0, 1, 5]]))])
     with pytest.raises(TypeError, match="integer"):
         table.geometry_of(np.zeros(2, np.float32))
+    assert table.geometry_of([0, 39]).tolist() == [0, 2]  # array-likes, as numpy functions take them
