@@ -23,7 +23,7 @@ except ImportError as error:  # pragma: no cover - depends on the installation
     raise ImportError("rayaccel.dask needs dask (Debian: apt-get install python3-dask python3-distributed)") \
         from error
 
-from . import Accelerator, Scene, builtin_scenes, load, mesh
+from . import Accelerator, Scene, builtin_scenes, default_spec, load, mesh
 from ._cache import accelerator, cache_info, clear_cache, set_cache_size
 from ._rays import HIT_DTYPE
 
@@ -146,7 +146,7 @@ def _trace(query, function, scene_source, rays, spec, dtype, options, check_sour
     return da.Array(HighLevelGraph(layers, dependencies), name, chunks=(rays.chunks[0],), dtype=dtype)
 
 
-def intersect(scene_source, rays, spec="bvh_wide", *, check=True, packets=False, check_source=True):
+def intersect(scene_source, rays, spec=default_spec(), *, check=True, packets=False, check_source=True):
     """Closest hits of every ray, as a dask array of shape (N,) and dtype HIT_DTYPE (t, prim_id, u, v: the
     records of accel.intersect(rays), the .hits layout), chunked as the rays along N.
 
@@ -160,7 +160,7 @@ def intersect(scene_source, rays, spec="bvh_wide", *, check=True, packets=False,
                   check_source)
 
 
-def occluded(scene_source, rays, spec="bvh_wide", *, check=True, check_source=True):
+def occluded(scene_source, rays, spec=default_spec(), *, check=True, check_source=True):
     """Any hit: a dask bool array of shape (N,) chunked as the rays (accel.occluded(rays)); arguments as intersect()."""
     return _trace("occluded", _occluded_chunk, scene_source, rays, spec, np.dtype(bool), (bool(check),),
                   check_source)
