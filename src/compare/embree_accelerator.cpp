@@ -1,7 +1,5 @@
-// EmbreeAccelerator: one Embree device and scene over a padded vertex copy and an index buffer of the valid
-// triangles (the ones rayaccel's structures build over; Embree's primitive ids are mapped back to the scene's);
-// rays are mapped to RTCRay (or a lane of RTCRayHit8) with tnear just above t_min so Embree's [tnear, tfar] matches
-// (t_min, t_max].
+// EmbreeAccelerator: one Embree device and scene over a padded vertex copy and the valid triangles (ids mapped back),
+// rays mapped to RTCRay with tnear just above t_min so Embree's [tnear, tfar] matches (t_min, t_max].
 #include "rayaccel/compare/embree_accelerator.h"
 
 #ifdef RAYACCEL_HAVE_EMBREE
