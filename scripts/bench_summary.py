@@ -10,7 +10,8 @@ occlusion (a quarter of the diagonal from origins offset along the normal), L li
 (the primary rays in 4x2 pixel tiles traced eight at a time: intersect_packets(), Embree's rtcIntersect8), LPk
 light_packet (the light rays in that tile order traced eight at a time: occluded_packets(), Embree's rtcOccluded8).
 Table 1: the default structure and bvh_wide:presplit=0 as ratios to Embree's default; Embree's own figures are
-medians too. Table 1b: the default against Embree's other modes the runs have (embree:robust=1,
+medians too. Memory twice: the structure alone (memory_bytes), and with the scene arrays its queries read
+(memory_bytes + input_memory_bytes; Embree's structure holds its own copy of the vertices, so this is like for like). Table 1b: the default against Embree's other modes the runs have (embree:robust=1,
 embree:quality=high), one column each.
 Table 2: the lowest and highest of the default structure's ratios over the runs (only with two or more runs).
 Table 3: the spatial structures as slowdowns against the default bvh_wide (1 thread).
@@ -40,15 +41,25 @@ def mrays(row, kind):
     return row["rays"][kind]["mrays_s_median"]
 
 
+def memory_with_scene(row):
+    """The structure's bytes plus those of the scene arrays its queries read (input_memory_bytes: the like-for-like
+    figure, as Embree's structure holds its own copy of the vertices); NaN for a run that did not record them."""
+    extra = row.get("input_memory_bytes")
+    return float("nan") if extra is None else row["memory_bytes"] + extra
+
+
 def ratios_to_embree(row, embree):
-    """build, memory, Mrays/s per kind (P, D, S[, Pk]) as ratios: < 1 is better for build and memory, > 1 for rays."""
-    parts = [row["build_ms_median"] / embree["build_ms_median"], row["memory_bytes"] / embree["memory_bytes"]]
+    """build, memory (structure only), memory with the scene arrays, Mrays/s per kind (P, D, S[, Pk]) as ratios: < 1
+    is better for build and memory, > 1 for rays."""
+    parts = [row["build_ms_median"] / embree["build_ms_median"], row["memory_bytes"] / embree["memory_bytes"],
+             memory_with_scene(row) / memory_with_scene(embree)]
     return parts + [mrays(row, k) / mrays(embree, k) for k in KINDS]
 
 
 def embree_figures(embree):
-    """build ms, MiB (as rayaccel bench prints), Mrays/s per kind (P, D, S[, Pk])."""
-    return [embree["build_ms_median"], embree["memory_bytes"] / 2**20] + [mrays(embree, k) for k in KINDS]
+    """build ms, MiB (as rayaccel bench prints) of the structure and with the scene arrays, Mrays/s per kind."""
+    return ([embree["build_ms_median"], embree["memory_bytes"] / 2**20, memory_with_scene(embree) / 2**20]
+            + [mrays(embree, k) for k in KINDS])
 
 
 def slowdowns(rows):
@@ -115,20 +126,21 @@ def main():
 
     print(f"Medians over {len(runs)} run(s).")
     print()
-    print(f"| scene | threads | Embree build ms / MB / Mrays/s {letters('/')} "
-          f"| {DEFAULT} build / memory / {letters()} | {NO_PRESPLIT} build / memory / {letters()} |")
+    print(f"| scene | threads | Embree build ms / MB / MB with scene / Mrays/s {letters('/')} "
+          f"| {DEFAULT} build / memory / with scene / {letters()} "
+          f"| {NO_PRESPLIT} build / memory / with scene / {letters()} |")
     print("|---|---|---|---|---|")
     for threads, scene in keys:
         f = figures[(threads, scene)]
         embree = median_of(f["embree"])
-        embree_text = f"{embree[0]:.0f} / {embree[1]:.1f} / {joined(embree[2:])}"
+        embree_text = f"{embree[0]:.0f} / {embree[1]:.1f} / {embree[2]:.1f} / {joined(embree[3:])}"
         print(f"| {scene} | {threads} | {embree_text} | {joined(median_of(f['default']))} "
               f"| {joined(median_of(f['no_presplit']))} |")
 
     if modes:
         print()
-        print("| scene | threads | " + " | ".join(f"{DEFAULT} against {m}: build / memory / {letters()}" for m in modes)
-              + " |")
+        print("| scene | threads | "
+              + " | ".join(f"{DEFAULT} against {m}: build / memory / with scene / {letters()}" for m in modes) + " |")
         print("|---|---|" + "---|" * len(modes))
         for threads, scene in keys:
             cells = median_of(figures[(threads, scene)]["modes"])
@@ -136,7 +148,8 @@ def main():
 
     if len(runs) > 1:
         print()
-        print(f"| scene | threads | {DEFAULT} lowest-highest over the runs: build / memory / {letters()} |")
+        print(f"| scene | threads | {DEFAULT} lowest-highest over the runs: build / memory / with scene / "
+              f"{letters()} |")
         print("|---|---|---|")
         for threads, scene in keys:
             per_run = figures[(threads, scene)]["default"]
@@ -169,11 +182,12 @@ def print_large(directories):
                 entry["embree"].append(embree_figures(by_accel[EMBREE]))
                 entry["default"].append(ratios_to_embree(by_accel[DEFAULT], by_accel[EMBREE]))
     print()
-    print(f"| scene | threads | Embree build ms / MB / Mrays/s {letters('/')} | {DEFAULT} build / memory / {letters()} |")
+    print(f"| scene | threads | Embree build ms / MB / MB with scene / Mrays/s {letters('/')} "
+          f"| {DEFAULT} build / memory / with scene / {letters()} |")
     print("|---|---|---|---|")
     for (threads, scene), entry in rows.items():
         embree = median_of(entry["embree"])
-        print(f"| {scene} | {threads} | {embree[0]:.0f} / {embree[1]:.1f} / {joined(embree[2:])} "
+        print(f"| {scene} | {threads} | {embree[0]:.0f} / {embree[1]:.1f} / {embree[2]:.1f} / {joined(embree[3:])} "
               f"| {joined(median_of(entry['default']))} |")
 
 

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <utility>
 
+#include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/number_text.h"
 #include "rayaccel/scene/import.h"
@@ -203,19 +204,7 @@ std::unique_ptr<Accelerator> make_structure(std::string_view spec, int threads) 
   return make_accelerator(spec, {{"threads", std::to_string(threads)}});
 }
 
-std::string default_accelerator_spec() {
-  const auto& registry = accelerator_registry();
-  // The fastest structure first (the wide SIMD BVH), then the binary BVH.
-  for (const char* preferred : {"bvh_wide", "bvh"}) {
-    for (const auto& info : registry) {
-      if (info.name == preferred) return info.name;
-    }
-  }
-  for (const auto& info : registry) {
-    if (info.name != "brute_force") return info.name;
-  }
-  return "brute_force";
-}
+std::string default_accelerator_spec() { return rayaccel::default_accelerator_spec(); }
 
 std::string safe_file_name(std::string_view text) {
   std::string out(text);

@@ -1,7 +1,5 @@
-// `rayaccel query MODE SCENE INPUT`: the queries beyond the first hit over a .rays or .points file: every crossing
-// along each ray (all-hits, count), the closest point of the scene (closest), inside tests (inside: crossing parity;
-// winding: generalised winding numbers) and signed distances. Builds once, runs the queries R times (median time)
-// and prints one JSON summary line; --out writes the answers.
+// `rayaccel query MODE SCENE INPUT`: all-hits, count, closest, inside, winding and signed distance over a .rays or
+// .points file; builds once, runs R times (median), prints one JSON summary line, --out writes the answers.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 

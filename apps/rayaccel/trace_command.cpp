@@ -1,8 +1,5 @@
-// `rayaccel trace SCENE RAYS`: builds a structure three times (median build time), or loads one saved before
-// (--load), traces a .rays file R times with the batch API (median time; --packets: the packet batch), optionally
-// saves the structure (--save) and writes the .hits (or .occ) file, and prints one JSON summary line. With
-// --precision double it hands over to trace_double.cpp (.rays64 in, .hits64 out); with --instances the two-level
-// trace of trace_instanced.cpp runs instead (.ihits out).
+// `rayaccel trace SCENE RAYS`: build (median of three) or --load, trace a .rays file R times (median), --save, write
+// .hits or .occ and one JSON summary line; --precision double and --instances hand over to their own files.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 

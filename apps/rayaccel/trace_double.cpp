@@ -1,19 +1,13 @@
-// `rayaccel trace SCENE RAYS --precision double`: the scene in double (a PLY file's coordinates as read, so `property
-// double` keeps its 53 bits; other files and builtins through the float loader, exact in double), moved by --offset,
-// a double structure (make_double_accelerator: brute_force or bvh with bv=aabb), .rays64 in, .hits64 or .occ out
-// (scene/ray_io.h), and the float trace's summary line plus "precision":"double".
+// `rayaccel trace SCENE RAYS --precision double`: the scene in double (load_mesh_double) moved by --offset, a
+// double structure (brute_force or bvh with bv=aabb), .rays64 in, .hits64 or .occ out, and the float trace's
+// summary line plus "precision":"double".
 #include "trace_double.h"
 
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <array>
-#include <cstddef>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <memory>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -23,10 +17,15 @@
 #include "rayaccel/core/ray_d.h"
 #include "rayaccel/double/double_accelerator.h"
 #include "rayaccel/double/double_scene.h"
-#include "rayaccel/scene/ply_reader.h"
+#include "rayaccel/double/double_scene_load.h"
 #include "rayaccel/scene/ray_io.h"
 
 namespace rayaccel::cli {
+
+// `rayaccel trace SCENE RAYS --precision double`: the scene in double (a PLY file's coordinates as read, so `property
+// double` keeps its 53 bits; other files and builtins through the float loader, exact in double), moved by --offset,
+// a double structure (make_double_accelerator: brute_force or bvh with bv=aabb), .rays64 in, .hits64 or .occ out
+// (scene/ray_io.h), and the float trace's summary line plus "precision":"double".
 
 namespace {
 
@@ -52,33 +51,6 @@ void check_double_spec(const std::string& spec) {
   }
 }
 
-/// True when the file starts like a PLY file.
-bool is_ply_file(const std::string& path) {
-  std::array<std::byte, 5> head{};
-  std::ifstream in(path, std::ios::binary);
-  in.read(reinterpret_cast<char*>(head.data()), head.size());
-  return looks_like_ply(std::span<const std::byte>(head.data(), static_cast<std::size_t>(in.gcount())));
-}
-
-/// The scene's mesh in double, every vertex moved by `offset`, and its name (the file's stem, or the builtin's).
-TriangleMeshD load_double_mesh(const std::string& spec, const DVec3& offset, std::string& name) {
-  check_scene_exists(spec);
-  if (!is_builtin(spec) && is_ply_file(spec)) {
-    TriangleMeshD mesh = read_ply_double(spec);
-    if (mesh.triangles.empty()) throw Error("mesh file '" + spec + "' has no triangles");
-    for (DVec3& v : mesh.vertices) v = v + offset;
-    name = std::filesystem::path(spec).stem().string();
-    return mesh;
-  }
-  const Scene scene = load_scene_checked(spec);
-  if (scene.kind() != PrimitiveKind::triangles) {
-    throw UsageError("--precision double: scene '" + spec + "' holds " + to_string(scene.kind()) +
-                     "; the double path traces triangle meshes only");
-  }
-  name = scene.name();
-  return to_double_mesh(scene.mesh(), offset);
-}
-
 }  // namespace
 
 int run_trace_double(const TraceDoubleArgs& args) {
@@ -87,8 +59,10 @@ int run_trace_double(const TraceDoubleArgs& args) {
   const DVec3 offset = args.offset.empty() ? DVec3{} : parse_dvec3(args.offset, "--offset");
   if (!args.out.empty()) check_output_path(args.out, args.occlusion ? "occlusion file" : "hit file");
 
-  std::string name;
-  const DoubleScene scene(load_double_mesh(args.scene, offset, name));
+  check_scene_exists(args.scene);
+  NamedMeshD loaded = load_mesh_double(args.scene, offset);
+  const std::string name = loaded.name;
+  const DoubleScene scene(std::move(loaded.mesh));
   const std::vector<RayD> rays = read_rays_d(args.rays);
 
   std::vector<double> build_ms;

@@ -1,8 +1,5 @@
-// `rayaccel trace SCENE RAYS --instances`: SCENE is read with its node hierarchy (a mesh used by several nodes is one
-// geometry with several instances: import_instanced_scene()), each --geometry FILE adds one more geometry placed
-// with the identity (several geometries side by side), and the rays are traced through an InstancedAccelerator.
-// Output: .ihits, 24 bytes per ray (float32 t, uint32 prim_id, float32 u, float32 v, uint32 geom_id, uint32
-// instance_id, little-endian; a miss: t = +inf, ids 0xFFFFFFFF, u = v = 0), or .occ with --occlusion.
+// `rayaccel trace SCENE RAYS --instances`: SCENE read with its node hierarchy (plus --geometry files placed with the
+// identity), traced through an InstancedAccelerator into .ihits (instance/instance_hits_file.h) or .occ.
 #include "trace_instanced.h"
 
 #include <fmt/core.h>

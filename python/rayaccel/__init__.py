@@ -19,17 +19,19 @@ import os
 import numpy as np
 
 from . import _core
-from ._core import DoubleScene, GeometryTable, Scene, __version__, packet_tile_order, set_threads, specs, threads
+from ._core import (DoubleScene, GeometryTable, Scene, __version__, default_spec, load_double, packet_tile_order,
+                    set_threads, specs, threads)
 from ._hits import HIT64_DTYPE, HIT_DTYPE, IHIT_DTYPE, MISS, Hits, TraversalStats
 from ._rays import as_points, as_rays, real_array
 from ._instances import InstancedAccelerator, InstancedScene, build_instanced
 from .camera import Camera, diffuse_rays, heatmap, render, shadow_rays
 
-__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "GeometryTable", "HIT64_DTYPE", "HIT_DTYPE",
-           "Hits", "IHIT_DTYPE", "InstancedAccelerator", "InstancedScene", "MISS", "Scene", "TraversalStats",
-           "__version__", "build", "build_double", "build_instanced", "builtin", "builtin_scenes", "diffuse_rays",
-           "heatmap", "load", "mesh", "mesh_double", "meshes", "packet_tile_order", "render", "set_threads", "shadow_rays",
-           "specs", "spheres", "structures", "thread_limit", "threads", "winding_numbers"]
+__all__ = ["Accelerator", "CLOSEST_DTYPE", "Camera", "DoubleAccelerator", "DoubleScene", "GeometryTable", "HIT64_DTYPE",
+           "HIT_DTYPE", "Hits", "IHIT_DTYPE", "InstancedAccelerator", "InstancedScene", "MISS", "Scene", "TraversalStats",
+           "__version__", "build", "build_double", "build_instanced", "builtin", "builtin_scenes", "default_spec",
+           "diffuse_rays", "heatmap", "load", "load_double", "mesh", "mesh_double", "meshes", "packet_tile_order",
+           "render", "set_threads", "shadow_rays", "specs", "spheres", "structures", "thread_limit", "threads",
+           "winding_numbers"]
 
 #: One closest-point record, the 28-byte layout of the CLI's .closest file (prim_id = MISS: nothing within reach).
 CLOSEST_DTYPE = np.dtype([("point", "<f4", (3,)), ("distance", "<f4"), ("prim_id", "<u4"), ("u", "<f4"),
@@ -134,7 +136,7 @@ class Accelerator(_core._Accelerator):
     traced as misses, as the C++ library and CLI do.
     """
 
-    def __init__(self, spec="bvh_wide"):
+    def __init__(self, spec=default_spec()):
         super().__init__(str(spec))
 
     def __repr__(self):
@@ -209,7 +211,7 @@ class Accelerator(_core._Accelerator):
         return self._signed_distance(flat, int(ray_count)).reshape(shape)
 
 
-def build(scene, spec="bvh_wide"):
+def build(scene, spec=default_spec()):
     """Builds the structure named by spec over scene; raises ValueError for an unknown spec, key or value."""
     if not isinstance(scene, Scene):
         raise TypeError(f"build() needs a rayaccel.Scene (rayaccel.mesh, load, builtin, spheres), not "

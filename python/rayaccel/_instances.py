@@ -57,7 +57,7 @@ class InstancedAccelerator(_core._InstancedAccelerator):
     level's ("bvh_top", the BVH over instance boxes, or any registry spec built over one user primitive per
     instance). Rays as for Accelerator: a (..., 8) array, or origins and directions with t_min and t_max."""
 
-    def __init__(self, bottom="bvh_wide", top="bvh_top"):
+    def __init__(self, bottom=_core.default_spec(), top="bvh_top"):
         super().__init__(str(bottom), str(top))
 
     def __repr__(self):
@@ -101,7 +101,7 @@ class InstancedAccelerator(_core._InstancedAccelerator):
         self._not_two_level("count_hits")
 
 
-def build_instanced(scene, bottom="bvh_wide", top="bvh_top"):
+def build_instanced(scene, bottom=_core.default_spec(), top="bvh_top"):
     """Builds an InstancedAccelerator over an InstancedScene; ValueError for an unknown bottom or top spec, or a top
     structure that cannot take user primitives."""
     if not isinstance(scene, _core._InstancedScene):

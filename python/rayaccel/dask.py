@@ -25,7 +25,7 @@ except ImportError as error:  # pragma: no cover - depends on the installation
     raise ImportError("rayaccel.dask needs dask (Debian: apt-get install python3-dask python3-distributed)") \
         from error
 
-from . import Accelerator, Scene, _core, builtin_scenes, load, mesh
+from . import Accelerator, Scene, _core, builtin_scenes, default_spec, load, mesh
 from ._cache import accelerator, cache_info, clear_cache, same_structure, set_cache_size
 from ._hits import HIT_DTYPE
 
@@ -187,7 +187,7 @@ def _trace(query, function, scene_source, rays, spec, structure, dtype, options,
     return da.Array(HighLevelGraph(layers, dependencies), name, chunks=(rays.chunks[0],), dtype=dtype)
 
 
-def intersect(scene_source, rays, spec="bvh_wide", *, structure=None, check=True, packets=False, check_source=True):
+def intersect(scene_source, rays, spec=default_spec(), *, structure=None, check=True, packets=False, check_source=True):
     """Closest hits of every ray, as a dask array of shape (N,) and dtype HIT_DTYPE (t, prim_id, u, v: the
     records of accel.intersect(rays), the .hits layout), chunked as the rays along N.
 
@@ -205,7 +205,7 @@ def intersect(scene_source, rays, spec="bvh_wide", *, structure=None, check=True
                   (bool(check), bool(packets)), check_source)
 
 
-def occluded(scene_source, rays, spec="bvh_wide", *, structure=None, check=True, check_source=True):
+def occluded(scene_source, rays, spec=default_spec(), *, structure=None, check=True, check_source=True):
     """Any hit: a dask bool array of shape (N,) chunked as the rays (accel.occluded(rays)); arguments as intersect()."""
     return _trace("occluded", _occluded_chunk, scene_source, rays, spec, structure, np.dtype(bool), (bool(check),),
                   check_source)

@@ -6,17 +6,16 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <limits>
 #include <memory>
-#include <mutex>
-#include <shared_mutex>
 #include <string>
 #include <vector>
 
 #include "arrays.h"
 #include "bindings.h"
+#include "locked_structure.h"
 #include "rayaccel/render/shading.h"
+#include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/query/inside.h"
 #include "rayaccel/query/signed_distance.h"
@@ -41,168 +40,102 @@ std::span<const Vec3> point_view(const FloatRows& points) {
   return {reinterpret_cast<const Vec3*>(points.data()), static_cast<std::size_t>(points.shape(0))};
 }
 
-/// One structure, built over one scene that it keeps alive. Queries take a shared lock and build() an exclusive
-/// one, so a rebuild from one Python thread never runs under another thread's batch (both run without the GIL).
-class PyAccelerator {
+/// One registry structure over one Scene (queries shared, build/update/load exclusive: see LockedStructure).
+class PyAccelerator : public LockedStructure<PyAccelerator, Accelerator, Scene> {
  public:
-  explicit PyAccelerator(const std::string& spec) : accel_(make_accelerator(spec)) {}
+  explicit PyAccelerator(const std::string& spec) : LockedStructure(make_accelerator(spec)) {}
+
+  static std::string not_built(const Accelerator& accel) {
+    return "accelerator '" + accel.spec() + "' is not built: call build(scene) first";
+  }
 
   void build(std::shared_ptr<Scene> scene) {
     if (!scene) throw TypeError("build() needs a rayaccel.Scene, not None");
-    py::gil_scoped_release release;
-    std::unique_lock lock(mutex_);
-    scene_.reset();
-    const auto start = std::chrono::steady_clock::now();
-    accel_->build(*scene);
-    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    scene_ = std::move(scene);
+    build_over(std::move(scene));
   }
 
   /// After the scene's vertices moved (arrays written in place, then Scene.arrays_changed()): refits where the
   /// structure can, else rebuilds; "refitted" or "rebuilt".
   std::string update() {
-    py::gil_scoped_release release;
-    std::unique_lock lock(mutex_);
-    require_built();
-    const auto start = std::chrono::steady_clock::now();
-    const UpdateKind kind = accel_->update(*scene_);
-    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return to_string(kind);
+    return change(true, [&](std::unique_ptr<Accelerator>& accel, std::shared_ptr<Scene>& scene) {
+      require_built();
+      return to_string(accel->update(*scene));
+    });
   }
   void save(const std::string& path) const {
-    py::gil_scoped_release release;
-    std::shared_lock lock(mutex_);
-    require_built().save(path);
+    query([&](const Accelerator& accel, const Scene&) { accel.save(path); });
   }
   /// Replaces this structure by the one saved in `path` (of the kind the file names) over `scene`.
   void load(const std::string& path, std::shared_ptr<Scene> scene) {
     if (!scene) throw TypeError("load() needs a rayaccel.Scene, not None");
-    py::gil_scoped_release release;
-    std::unique_lock lock(mutex_);
-    const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<Accelerator> loaded = load_accelerator(path, *scene);
-    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    accel_ = std::move(loaded);
-    scene_ = std::move(scene);
+    change(true, [&](std::unique_ptr<Accelerator>& accel, std::shared_ptr<Scene>& current) {
+      std::unique_ptr<Accelerator> loaded = load_accelerator(path, *scene);
+      accel = std::move(loaded);
+      current = std::move(scene);
+    });
   }
-  // load() replaces accel_ with the GIL released, so even the structure's fixed properties are read under the lock
-  // (a reference into the old structure would dangle): spec() returns a copy.
   bool supports_refit() const {
-    std::shared_lock lock(mutex_);
-    return accel_->supports_refit();
+    return read([](const Accelerator& accel) { return accel.supports_refit(); });
   }
   bool supports_save() const {
-    std::shared_lock lock(mutex_);
-    return accel_->supports_save();
-  }
-
-  // Accessors run with the GIL held; they wait for a build running in another thread (which needs no GIL until
-  // it ends), never the other way round.
-  bool built() const {
-    std::shared_lock lock(mutex_);
-    return scene_ != nullptr;
-  }
-  std::string spec() const {
-    std::shared_lock lock(mutex_);
-    return accel_->spec();
-  }
-  std::shared_ptr<Scene> scene() const {
-    std::shared_lock lock(mutex_);
-    return scene_;
-  }
-  double build_ms() const {
-    std::shared_lock lock(mutex_);
-    return build_ms_;
-  }
-  std::size_t memory_bytes() const {
-    std::shared_lock lock(mutex_);
-    return require_built().memory_bytes();
-  }
-  std::vector<std::string> validate() const {
-    py::gil_scoped_release release;
-    std::shared_lock lock(mutex_);
-    return require_built().validate();
+    return read([](const Accelerator& accel) { return accel.supports_save(); });
   }
   py::dict build_statistics() const {
-    std::shared_lock lock(mutex_);
-    py::dict out;
-    for (const auto& s : require_built().build_statistics()) out[py::str(s.name)] = s.value;
-    return out;
+    return read_built([](const Accelerator& accel) {
+      py::dict out;
+      for (const auto& s : accel.build_statistics()) out[py::str(s.name)] = s.value;
+      return out;
+    });
   }
 
   /// Closest hits: (N, 16) uint8 records in the .hits layout, and (N, 2) uint64 statistics or None.
   /// `out`: None, or an (N, 16) uint8 C-contiguous writable array the records are written into (and returned).
   py::tuple intersect(const py::handle& rays_object, bool with_stats, bool packets, bool check,
                       const py::object& out) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
     if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
-    py::array_t<std::uint8_t> records;
-    if (out.is_none()) {
-      records = py::array_t<std::uint8_t>({static_cast<py::ssize_t>(rays.size()), py::ssize_t{16}});
-    } else {
-      const auto given = py::reinterpret_borrow<py::array>(out);
-      if (!py::isinstance<py::array_t<std::uint8_t>>(out) || given.ndim() != 2 || given.shape(1) != 16 ||
-          static_cast<std::size_t>(given.shape(0)) != rays.size() || !(given.flags() & py::array::c_style) ||
-          !given.writeable()) {
-        throw ValueError("out must hold one writable, C-contiguous hit record per ray (" + std::to_string(rays.size()) +
-                         " rays)");
-      }
-      records = py::reinterpret_borrow<py::array_t<std::uint8_t>>(out);
-    }
+    auto [records, hits] = record_array<Hit>(rays.size(), out);
     py::object stats_array = py::none();
     const std::span<TraversalStats> stats =
         with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
-    const std::span<Hit> hits(reinterpret_cast<Hit*>(records.mutable_data()), rays.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      const Accelerator& accel = require_built();
-      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        const auto block = rays.subspan(begin, end - begin);
-        if (packets) {
-          accel.intersect_packets(block, hits.subspan(begin, end - begin));
-        } else {
-          accel.intersect(block, hits.subspan(begin, end - begin),
-                          stats.empty() ? stats : stats.subspan(begin, end - begin));
-        }
-      });
-    }
+    trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+      const auto block = rays.subspan(begin, end - begin);
+      if (packets) {
+        accel.intersect_packets(block, hits.subspan(begin, end - begin));
+      } else {
+        accel.intersect(block, hits.subspan(begin, end - begin),
+                        stats.empty() ? stats : stats.subspan(begin, end - begin));
+      }
+    });
     return py::make_tuple(records, stats_array);
   }
 
   /// Any hits: (N,) bool, and (N, 2) uint64 statistics or None.
   py::tuple occluded(const py::handle& rays_object, bool with_stats, bool packets, bool check) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
     if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
-    py::array_t<bool> answers(static_cast<py::ssize_t>(rays.size()));
+    auto [answers, out] = answer_array(rays.size());
     py::object stats_array = py::none();
     const std::span<TraversalStats> stats =
         with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
-    static_assert(sizeof(bool) == 1);
-    const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), rays.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      const Accelerator& accel = require_built();
-      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        const auto block = rays.subspan(begin, end - begin);
-        if (packets) {
-          accel.occluded_packets(block, out.subspan(begin, end - begin));
-        } else {
-          accel.occluded(block, out.subspan(begin, end - begin),
-                         stats.empty() ? stats : stats.subspan(begin, end - begin));
-        }
-      });
-    }
+    trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+      const auto block = rays.subspan(begin, end - begin);
+      if (packets) {
+        accel.occluded_packets(block, out.subspan(begin, end - begin));
+      } else {
+        accel.occluded(block, out.subspan(begin, end - begin),
+                       stats.empty() ? stats : stats.subspan(begin, end - begin));
+      }
+    });
     return py::make_tuple(answers, stats_array);
   }
 
   /// Hit points (recomputed from the primitive) and unit geometric normals, (N, 3) float32 each, NaN at misses.
   py::tuple surface(const py::handle& rays_object, const py::array_t<std::uint8_t, py::array::c_style>& records) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
     if (records.ndim() != 2 || records.shape(1) != 16 || static_cast<std::size_t>(records.shape(0)) != rays.size()) {
       throw ValueError("hit records must have shape (N, 16) with N = the number of rays");
     }
@@ -212,11 +145,7 @@ class PyAccelerator {
     const Hit* hits = reinterpret_cast<const Hit*>(records.data());
     float* p = points.mutable_data();
     float* nrm = normals.mutable_data();
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      require_built();
-      const Scene& scene = *scene_;
+    query([&](const Accelerator&, const Scene& scene) {
       const std::uint32_t count = scene.primitive_count();
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
         constexpr float nan = std::numeric_limits<float>::quiet_NaN();
@@ -232,30 +161,28 @@ class PyAccelerator {
           }
         }
       });
-    }
+    });
     return py::make_tuple(points, normals);
   }
 
   /// Every crossing of each ray: (counts (N,) uint32 before the cap, records (M, 16) uint8 in the .hits layout, the
   /// kept crossings ray after ray, each ray's by t).
   py::tuple all_hits(const py::handle& rays_object, std::uint64_t max_hits, bool check) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
     py::array_t<std::uint32_t> counts(static_cast<py::ssize_t>(rays.size()));
     std::vector<std::vector<Hit>> per_ray(rays.size());
     std::uint32_t* count = counts.mutable_data();
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      const Accelerator& accel = require_queries();
-      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        detail::parallel_for_rays(end - begin, [&](std::size_t b, std::size_t e) {
-          for (std::size_t i = begin + b; i < begin + e; ++i) {
-            count[i] = static_cast<std::uint32_t>(accel.all_hits(rays[i], per_ray[i], max_hits));
-          }
-        });
-      });
-    }
+    trace(
+        rays, check,
+        [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+          detail::parallel_for_rays(end - begin, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = begin + b; i < begin + e; ++i) {
+              count[i] = static_cast<std::uint32_t>(accel.all_hits(rays[i], per_ray[i], max_hits));
+            }
+          });
+        },
+        require_queries);
     std::size_t total = 0;
     for (const auto& h : per_ray) total += h.size();
     py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(total), py::ssize_t{16}});
@@ -266,18 +193,16 @@ class PyAccelerator {
 
   /// Crossings per ray, (N,) uint32.
   py::array_t<std::uint32_t> count_hits(const py::handle& rays_object, bool check) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
     py::array_t<std::uint32_t> counts(static_cast<py::ssize_t>(rays.size()));
     const std::span<std::uint32_t> out(counts.mutable_data(), rays.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      const Accelerator& accel = require_queries();
-      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        accel.count_hits(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
-      });
-    }
+    trace(
+        rays, check,
+        [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+          accel.count_hits(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
+        },
+        require_queries);
     return counts;
   }
 
@@ -285,13 +210,11 @@ class PyAccelerator {
   py::array_t<std::uint8_t> closest_points(const py::handle& points_object, float max_distance) const {
     const auto points_array = float_rows(points_object, 3, "points");
     const std::span<const Vec3> points = point_view(points_array);
-    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(points.size()), py::ssize_t{28}});
-    const std::span<ClosestPoint> out(reinterpret_cast<ClosestPoint*>(records.mutable_data()), points.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      require_queries().closest_points(points, out, max_distance);
-    }
+    static_assert(sizeof(ClosestPoint) == 28, "the .closest record");
+    auto [records, out] = record_array<ClosestPoint>(points.size(), py::none());
+    query([&](const Accelerator& accel, const Scene&) {
+      require_queries(accel).closest_points(points, out, max_distance);
+    });
     return records;
   }
 
@@ -299,13 +222,10 @@ class PyAccelerator {
   py::array_t<bool> inside(const py::handle& points_object, int ray_count) const {
     const auto points_array = float_rows(points_object, 3, "points");
     const std::span<const Vec3> points = point_view(points_array);
-    py::array_t<bool> answers(static_cast<py::ssize_t>(points.size()));
-    const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), points.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      inside_by_parity(require_queries(), points, out, {.ray_count = ray_count});
-    }
+    auto [answers, out] = answer_array(points.size());
+    query([&](const Accelerator& accel, const Scene&) {
+      inside_by_parity(require_queries(accel), points, out, {.ray_count = ray_count});
+    });
     return answers;
   }
 
@@ -315,44 +235,28 @@ class PyAccelerator {
     const std::span<const Vec3> points = point_view(points_array);
     py::array_t<float> distances(static_cast<py::ssize_t>(points.size()));
     const std::span<float> out(distances.mutable_data(), points.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      signed_distances(require_queries(), points, out, {}, {.ray_count = ray_count});
-    }
+    query([&](const Accelerator& accel, const Scene&) {
+      signed_distances(require_queries(accel), points, out, {}, {.ray_count = ray_count});
+    });
     return distances;
   }
 
   /// An image through the library's renderer, (height, width, 3) uint8.
   py::array_t<std::uint8_t> render(const RenderRequest& request) const {
-    Image image;
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      image = render_image(require_built(), *scene_, request);
-    }
+    const Image image =
+        query([&](const Accelerator& accel, const Scene& scene) { return render_image(accel, scene, request); });
     return image_array(image);
   }
 
  private:
-  const Accelerator& require_built() const {
-    if (!scene_) throw ValueError("accelerator '" + accel_->spec() + "' is not built: call build(scene) first");
-    return *accel_;
-  }
-  /// A built structure that answers all-hits and closest-point queries (ValueError naming it otherwise).
-  const Accelerator& require_queries() const {
-    const Accelerator& accel = require_built();
+  /// `accel` when it answers all-hits and closest-point queries (ValueError naming it otherwise).
+  static const Accelerator& require_queries(const Accelerator& accel) {
     if (!accel.supports_queries()) {
       throw ValueError("'" + accel.spec() + "' does not answer all-hits, closest-point or inside queries; build "
                        "brute_force, bvh[:...] or bvh_wide[:...]");
     }
     return accel;
   }
-
-  std::unique_ptr<Accelerator> accel_;
-  std::shared_ptr<Scene> scene_;
-  mutable std::shared_mutex mutex_;
-  double build_ms_ = 0.0;
 };
 
 py::list structures() {
@@ -423,6 +327,8 @@ void bind_accelerator(py::module_& m) {
     }
     return winding;
   });
+  m.def("default_spec", &default_accelerator_spec,
+        "The spec build() and Accelerator() use when none is given (the catalog's fastest structure).");
   m.def("specs", &accelerator_variant_names,
         "Every spec `rayaccel list --names` prints, in registry order (each one accepted by build()).");
 }

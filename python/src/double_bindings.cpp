@@ -1,25 +1,31 @@
-// The double-precision path for Python: rayaccel.mesh_double() makes a DoubleScene from float64 numpy arrays, and
-// rayaccel.build_double() a double structure (make_double_accelerator: brute_force or bvh) queried with (N, 8) float64
-// rays in the .rays64 layout into (N, 32) uint8 records in the .hits64 layout (scene/ray_io.h), so results equal the
-// CLI's files byte for byte. Builds and batches run without the GIL.
+// The double-precision path for Python: mesh_double() and load_double() make a DoubleScene, build_double() a
+// double structure queried with (N, 8) float64 rays (.rays64) into (N, 32) uint8 records (.hits64), the CLI's
+// files byte for byte.
 #include <pybind11/stl.h>
 
+#include <array>
 #include <cstddef>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <memory>
-#include <mutex>
-#include <shared_mutex>
 #include <string>
 #include <vector>
 
 #include "arrays.h"
 #include "bindings.h"
+#include "locked_structure.h"
 #include "rayaccel/core/ray_d.h"
 #include "rayaccel/double/double_accelerator.h"
 #include "rayaccel/double/double_scene.h"
+#include "rayaccel/double/double_scene_load.h"
 
 namespace rayaccel::python {
+
+// The double-precision path for Python: rayaccel.mesh_double() makes a DoubleScene from float64 numpy arrays, and
+// rayaccel.build_double() a double structure (make_double_accelerator: brute_force or bvh) queried with (N, 8) float64
+// rays in the .rays64 layout into (N, 32) uint8 records in the .hits64 layout (scene/ray_io.h), so results equal the
+// CLI's files byte for byte. Builds and batches run without the GIL.
 
 namespace {
 
@@ -70,92 +76,69 @@ const char* ray_problem(const RayD& r) {
   return nullptr;
 }
 
-/// Throws ValueError naming the first unacceptable ray.
-void check_rays(std::span<const RayD> rays) {
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    if (const char* problem = ray_problem(rays[i])) {
-      throw ValueError("ray " + std::to_string(i) + " has " + problem +
-                       " (pass check=False to trace such rays as misses, as the C++ library does)");
-    }
+/// rayaccel.load_double(): a mesh file (PLY coordinates as read, every bit of `property double` kept; other formats
+/// through the float loader) or builtin spec, moved by `offset`.
+std::shared_ptr<DoubleScene> load_double(const py::handle& spec_object, const std::array<double, 3>& offset) {
+  const std::string spec = py::str(py::module_::import("os").attr("fspath")(spec_object));
+  std::error_code ec;
+  if (spec.rfind("builtin:", 0) != 0 && !std::filesystem::is_regular_file(spec, ec)) {
+    throw FileNotFound("scene file '" + spec + "' does not exist (or is not a file)");
   }
+  py::gil_scoped_release release;
+  return std::make_shared<DoubleScene>(load_mesh_double(spec, {offset[0], offset[1], offset[2]}).mesh);
 }
 
-/// One double structure over one DoubleScene that it keeps alive; queries take a shared lock and build() an
-/// exclusive one (as the float _Accelerator).
-class PyDoubleAccelerator {
+}  // namespace
+
+void trace_checked(std::span<const RayD> rays, bool check, const std::function<void(std::size_t, std::size_t)>& trace) {
+  if (check) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      if (const char* problem = ray_problem(rays[i])) {
+        throw ValueError("ray " + std::to_string(i) + " has " + problem +
+                         " (pass check=False to trace such rays as misses, as the C++ library does)");
+      }
+    }
+  }
+  trace(0, rays.size());
+}
+
+namespace {
+
+/// One double structure over one DoubleScene (queries shared, build exclusive: see LockedStructure).
+class PyDoubleAccelerator : public LockedStructure<PyDoubleAccelerator, DoubleAccelerator, DoubleScene> {
  public:
-  explicit PyDoubleAccelerator(const std::string& spec) : accel_(make_double_accelerator(spec)) {}
+  explicit PyDoubleAccelerator(const std::string& spec) : LockedStructure(make_double_accelerator(spec)) {}
+
+  static std::string not_built(const DoubleAccelerator& accel) {
+    return "double accelerator '" + accel.spec() + "' is not built: call build(scene) first";
+  }
 
   void build(std::shared_ptr<DoubleScene> scene) {
     if (!scene) throw TypeError("build() needs a rayaccel.DoubleScene, not None");
-    py::gil_scoped_release release;
-    std::unique_lock lock(mutex_);
-    scene_.reset();
-    accel_->build(*scene);
-    scene_ = std::move(scene);
-  }
-
-  const std::string& spec() const { return accel_->spec(); }
-  std::shared_ptr<DoubleScene> scene() const {
-    std::shared_lock lock(mutex_);
-    return scene_;
-  }
-  std::size_t memory_bytes() const {
-    std::shared_lock lock(mutex_);
-    return require_built().memory_bytes();
-  }
-  std::vector<std::string> validate() const {
-    py::gil_scoped_release release;
-    std::shared_lock lock(mutex_);
-    return require_built().validate();
+    build_over(std::move(scene));
   }
 
   /// Closest hits: (N, 32) uint8 records in the .hits64 layout.
   py::array_t<std::uint8_t> intersect(const py::handle& rays_object, bool check) const {
-    const auto rays_array = real_rows<double>(rays_object, 8, "rays");
-    const std::span<const RayD> rays = ray_view(rays_array);
-    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(rays.size()), py::ssize_t{sizeof(HitD)}});
+    const BatchRays<RayD> batch(rays_object);
+    auto [records, hits] = record_array<HitD>(batch.rays.size(), py::none());
     std::uint8_t* bytes = records.mutable_data();
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      const DoubleAccelerator& accel = require_built();
-      if (check) check_rays(rays);
-      accel.intersect(rays, std::span<HitD>(reinterpret_cast<HitD*>(bytes), rays.size()));
-      for (std::size_t i = 0; i < rays.size(); ++i) std::memset(bytes + i * sizeof(HitD) + kPaddingOffset, 0, 4);
-    }
+    trace(batch.rays, check, [&](const DoubleAccelerator& accel, std::size_t begin, std::size_t end) {
+      accel.intersect(batch.rays.subspan(begin, end - begin), hits.subspan(begin, end - begin));
+      for (std::size_t i = begin; i < end; ++i) std::memset(bytes + i * sizeof(HitD) + kPaddingOffset, 0, 4);
+    });
     return records;
   }
 
   /// Any hits: (N,) bool.
   py::array_t<bool> occluded(const py::handle& rays_object, bool check) const {
-    const auto rays_array = real_rows<double>(rays_object, 8, "rays");
-    const std::span<const RayD> rays = ray_view(rays_array);
-    py::array_t<bool> answers(static_cast<py::ssize_t>(rays.size()));
-    static_assert(sizeof(bool) == 1);
-    const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), rays.size());
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(mutex_);
-      const DoubleAccelerator& accel = require_built();
-      if (check) check_rays(rays);
-      accel.occluded(rays, out);
-    }
+    const BatchRays<RayD> batch(rays_object);
+    auto [answers, out] = answer_array(batch.rays.size());
+    trace(batch.rays, check, [&](const DoubleAccelerator& accel, std::size_t begin, std::size_t end) {
+      accel.occluded(batch.rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
+    });
     return answers;
   }
-
- private:
-  static std::span<const RayD> ray_view(const RealRows<double>& rays) {
-    return {reinterpret_cast<const RayD*>(rays.data()), static_cast<std::size_t>(rays.shape(0))};
-  }
-  const DoubleAccelerator& require_built() const {
-    if (!scene_) throw ValueError("double accelerator '" + accel_->spec() + "' is not built: call build(scene) first");
-    return *accel_;
-  }
-
-  std::unique_ptr<DoubleAccelerator> accel_;
-  std::shared_ptr<DoubleScene> scene_;
-  mutable std::shared_mutex mutex_;
 };
 
 }  // namespace
@@ -169,6 +152,11 @@ void bind_double(py::module_& m) {
         return "<rayaccel.DoubleScene: " + std::to_string(s.triangle_count()) + " triangles>";
       });
   m.def("_mesh_double", &mesh_double, py::arg("vertices"), py::arg("triangles"));
+  m.def("load_double", &load_double, py::arg("spec"), py::arg("offset") = std::array<double, 3>{0.0, 0.0, 0.0},
+        "A DoubleScene from a mesh file or \"builtin:NAME[:k=v,...]\" spec, every vertex moved by offset (3 floats): a "
+        "PLY file's coordinates as read (property double keeps its 53 bits), other formats and builtins through the "
+        "float loader (exact in double). FileNotFoundError for a missing file, ValueError for one that is not a "
+        "triangle mesh.");
   py::class_<PyDoubleAccelerator>(m, "_DoubleAccelerator")
       .def(py::init<const std::string&>(), py::arg("spec"))
       .def("build", &PyDoubleAccelerator::build, py::arg("scene"))

@@ -13,6 +13,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "locked_structure.h"
 #include "rayaccel/instance/instance_hits_file.h"
 #include "rayaccel/instance/instanced_accelerator.h"
 
@@ -119,10 +120,20 @@ class PyInstancedScene {
   std::shared_ptr<SharedScene> shared_;
 };
 
-class PyInstancedAccelerator {
+/// The two-level structure over one InstancedScene, under that scene's lock (see LockedStructure, SharedScene).
+class PyInstancedAccelerator : public LockedStructure<PyInstancedAccelerator, InstancedAccelerator, InstancedScene> {
  public:
   PyInstancedAccelerator(const std::string& bottom, const std::string& top)
-      : accel_(InstancedAcceleratorOptions{bottom, top}) {}
+      : LockedStructure(std::make_unique<InstancedAccelerator>(InstancedAcceleratorOptions{bottom, top})),
+        bottom_(bottom),
+        top_(top) {}
+
+  static std::string not_built(const InstancedAccelerator&) { return kNotBuilt; }
+  /// The scene's lock; its SharedScene is bound (with the GIL held) by the first build() and never changes.
+  std::shared_mutex& mutex() const {
+    if (!shared_) throw ValueError(kNotBuilt);
+    return shared_->mutex;
+  }
 
   /// Builds over `scene`; again over the same scene after geometries were added (another scene needs another
   /// structure, so that batches running on other threads always see one scene's lock).
@@ -131,84 +142,61 @@ class PyInstancedAccelerator {
       throw ValueError("this instanced accelerator is built over another InstancedScene: use build_instanced()");
     }
     shared_ = scene.shared();
-    py::gil_scoped_release release;
-    std::unique_lock lock(shared_->mutex);
-    accel_.build(shared_->scene);
+    build_over(std::shared_ptr<InstancedScene>(shared_, &shared_->scene));
   }
   void rebuild_top() {
-    py::gil_scoped_release release;
-    std::unique_lock lock(require_built().mutex);
-    accel_.rebuild_top();
+    change(false, [&](std::unique_ptr<InstancedAccelerator>& accel, auto&) {
+      require_built();
+      accel->rebuild_top();
+    });
   }
   std::string update_top() {
-    py::gil_scoped_release release;
-    std::unique_lock lock(require_built().mutex);
-    return to_string(accel_.update_top());
+    return change(false, [&](std::unique_ptr<InstancedAccelerator>& accel, auto&) {
+      require_built();
+      return to_string(accel->update_top());
+    });
   }
   void set_enabled(std::uint32_t instance, bool enabled) {
-    py::gil_scoped_release release;
-    std::unique_lock lock(require_built().mutex);
-    accel_.set_enabled(instance, enabled);
+    change(false, [&](std::unique_ptr<InstancedAccelerator>& accel, auto&) {
+      require_built();
+      accel->set_enabled(instance, enabled);
+    });
   }
   bool is_enabled(std::uint32_t instance) const {
-    std::shared_lock lock(require_built().mutex);
-    return accel_.is_enabled(instance);
+    return read_built([&](const InstancedAccelerator& accel) { return accel.is_enabled(instance); });
   }
-  const std::string& bottom() const { return accel_.bottom_spec(); }
-  const std::string& top() const { return accel_.top_spec(); }
-  std::size_t memory_bytes() const {
-    std::shared_lock lock(require_built().mutex);
-    return accel_.memory_bytes();
-  }
-  std::vector<std::string> validate() const {
-    std::shared_lock lock(require_built().mutex);
-    return accel_.validate();
-  }
+  // Fixed at construction: no lock needed.
+  const std::string& bottom() const { return bottom_; }
+  const std::string& top() const { return top_; }
 
   /// Closest hits: (N, 24) uint8 records in the .ihits layout.
   py::array_t<std::uint8_t> intersect(const py::handle& rays_object, bool check) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
-    py::array_t<std::uint8_t> records({static_cast<py::ssize_t>(rays.size()), py::ssize_t{24}});
-    auto* out = reinterpret_cast<InstanceHitRecord*>(records.mutable_data());
-    SharedScene& shared = require_built();
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(shared.mutex);
-      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        detail::parallel_for_rays(end - begin, [&](std::size_t b, std::size_t e) {
-          for (std::size_t i = begin + b; i < begin + e; ++i) out[i] = to_record(accel_.intersect(rays[i]));
-        });
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
+    auto [records, out] = record_array<InstanceHitRecord>(rays.size(), py::none());
+    trace(rays, check, [&](const InstancedAccelerator& accel, std::size_t begin, std::size_t end) {
+      detail::parallel_for_rays(end - begin, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = begin + b; i < begin + e; ++i) out[i] = to_record(accel.intersect(rays[i]));
       });
-    }
+    });
     return records;
   }
 
   /// Any hits, (N,) bool.
   py::array_t<bool> occluded(const py::handle& rays_object, bool check) const {
-    const auto rays_array = float_rows(rays_object, 8, "rays");
-    const std::span<const Ray> rays = ray_view(rays_array);
-    py::array_t<bool> answers(static_cast<py::ssize_t>(rays.size()));
-    static_assert(sizeof(bool) == 1);
-    const std::span<std::uint8_t> out(reinterpret_cast<std::uint8_t*>(answers.mutable_data()), rays.size());
-    SharedScene& shared = require_built();
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(shared.mutex);
-      trace_checked(rays, check, [&](std::size_t begin, std::size_t end) {
-        accel_.occluded(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
-      });
-    }
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
+    auto [answers, out] = answer_array(rays.size());
+    trace(rays, check, [&](const InstancedAccelerator& accel, std::size_t begin, std::size_t end) {
+      accel.occluded(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
+    });
     return answers;
   }
 
  private:
-  SharedScene& require_built() const {
-    if (!shared_) throw ValueError("instanced accelerator is not built: call build(instanced_scene) first");
-    return *shared_;
-  }
+  static constexpr const char* kNotBuilt = "instanced accelerator is not built: call build(instanced_scene) first";
 
-  InstancedAccelerator accel_;
+  std::string bottom_, top_;
   std::shared_ptr<SharedScene> shared_;
 };
 

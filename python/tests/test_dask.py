@@ -1,6 +1,8 @@
 """rayaccel.dask: results equal to local tracing, bit for bit, on Dask's local schedulers and on a two-process
 distributed.LocalCluster (loopback only), whatever the chunking; one build per process; clear errors on the client;
-a worker killed mid-run loses nothing. Skipped when dask (or, for the cluster tests, distributed) is missing."""
+a worker killed mid-run loses nothing. Skipped when dask (or, for the cluster tests, distributed) is missing, unless
+RAYACCEL_REQUIRE_DASK=1 is set (.ci/run sets it; scripts/setup.sh installs both): then a missing one fails the run."""
+import importlib
 import os
 import signal
 import threading
@@ -9,7 +11,16 @@ import time
 import numpy as np
 import pytest
 
-pytest.importorskip("dask.array", reason="dask is not installed (Debian python3-dask; scripts/setup.sh installs it)")
+
+
+def require(module, reason):
+    """The module; when it is missing, a skip naming `reason`, or under RAYACCEL_REQUIRE_DASK=1 an ImportError."""
+    if os.environ.get("RAYACCEL_REQUIRE_DASK") == "1":
+        return importlib.import_module(module)
+    return pytest.importorskip(module, reason=reason)
+
+
+require("dask.array", "dask is not installed (Debian python3-dask; scripts/setup.sh installs it)")
 import dask  # noqa: E402
 import dask.array as da  # noqa: E402
 
@@ -242,8 +253,7 @@ def test_task_names_and_progress_bar(capsys):
 
 @pytest.fixture(scope="module")
 def client():
-    distributed = pytest.importorskip(
-        "distributed", reason="distributed is not installed (Debian python3-distributed; scripts/setup.sh)")
+    distributed = require("distributed", "distributed is not installed (Debian python3-distributed; scripts/setup.sh)")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                                   dashboard_address=None, silence_logs=50) as cluster, \
             distributed.Client(cluster) as c:

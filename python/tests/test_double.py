@@ -176,3 +176,54 @@ def test_errors_name_the_argument(soup_arrays):
         accel.occluded(rays)
     unchecked = accel.intersect(rays, check=False)
     assert unchecked.prim_id[2] == rayaccel.MISS and unchecked.hit[[0, 1, 3]].all()
+
+
+def write_ply_double(path, vertices, triangles):
+    """A binary little-endian PLY file with `property double` coordinates."""
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\nproperty double x\n"
+              f"property double y\nproperty double z\nelement face {len(triangles)}\n"
+              "property list uchar int vertex_indices\nend_header\n").encode()
+    faces = np.zeros(len(triangles), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    faces["n"] = 3
+    faces["i"] = triangles
+    path.write_bytes(header + np.ascontiguousarray(vertices, dtype="<f8").tobytes() + faces.tobytes())
+
+
+def test_load_double_keeps_a_ply_files_double_coordinates(tmp_path):
+    # The far scene of the test above, as a PLY file: load_double() reads its 53-bit coordinates, so it answers as
+    # mesh_double() over the same arrays, record for record; the float loader would have lost the first triangle.
+    base = 1.0e7
+    vertices = np.array([[base + 0.1, base + 0.1, 5.0], [base + 0.4, base + 0.1, 5.5], [base + 0.1, base + 0.4, 6.0],
+                         [base + 3.1, base + 0.1, 2.0], [base + 3.9, base + 0.2, 2.5], [base + 3.2, base + 0.7, 3.0]])
+    triangles = np.array([[0, 1, 2], [3, 4, 5]], dtype=np.int32)
+    path = tmp_path / "far.ply"
+    write_ply_double(path, vertices, triangles)
+    origins = np.array([[base + 0.2, base + 0.2, 100.0], [base + 3.3, base + 0.3, -50.0]])
+    directions = np.array([[0.0, 0.0, -1.0], [0.001, 0.002, 1.0]])
+    expected = rayaccel.build_double(rayaccel.mesh_double(vertices, triangles)).intersect(origins, directions)
+    assert list(expected.prim_id) == [0, 1]
+    for source in (path, str(path)):
+        scene = rayaccel.load_double(source)
+        assert isinstance(scene, rayaccel.DoubleScene) and len(scene) == 2
+        hits = rayaccel.build_double(scene).intersect(origins, directions)
+        assert hits.tobytes() == expected.tobytes()
+    # offset moves every vertex (in double): the same rays moved by it find the same triangles.
+    offset = (-base, -base, 1.0)
+    moved = rayaccel.build_double(rayaccel.load_double(path, offset=offset))
+    shifted = moved.intersect(origins + np.array(offset), directions)
+    np.testing.assert_array_equal(shifted.prim_id, [0, 1])
+    np.testing.assert_allclose(shifted.t, expected.t, rtol=1e-9)
+
+
+def test_load_double_reads_builtins_and_names_its_errors(tmp_path):
+    sphere = rayaccel.load("builtin:sphere")
+    scene = rayaccel.load_double("builtin:sphere")
+    assert len(scene) == len(sphere)
+    with pytest.raises(FileNotFoundError, match="missing.ply"):
+        rayaccel.load_double(tmp_path / "missing.ply")
+    (tmp_path / "empty.ply").write_text("ply\nformat ascii 1.0\nelement vertex 0\nelement face 0\n"
+                                         "property list uchar int vertex_indices\nend_header\n")
+    with pytest.raises(ValueError, match="empty.ply"):
+        rayaccel.load_double(tmp_path / "empty.ply")
+    with pytest.raises(ValueError, match="triangle meshes only"):
+        rayaccel.load_double("builtin:sphereflake:level=1")

@@ -1,7 +1,5 @@
-// kd-tree builders: the median split (axes cycling by depth) and the O(N log N) SAH build of Wald & Havran 2006
-// ("On building fast kd-trees for ray tracing, and on doing that in O(N log N)"): one sorted event list per node,
-// split and merged (never re-sorted) on the way down, with perfect splits from clipped primitive bounds. The SAH
-// charges K_I per started block of options.block_size references (Triangle4 leaves: 4).
+// kd-tree builders: the median split (axes cycling) and the O(N log N) SAH build of Wald & Havran 2006 (sorted event
+// lists split and merged on the way down, perfect splits); K_I per started block of block_size references.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

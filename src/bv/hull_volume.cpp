@@ -1,7 +1,5 @@
-// Capped hull fitting: the points' convex hull (Quickhull, convex_hull.h) proposes planes, each scored by the part
-// of the box it cuts away (face area times cut depth; a flat hull's two sides come first, then its edges); the
-// best-scoring planes whose normals are not within ~18 degrees of one already taken are kept, and each is moved out
-// to the points' support for its stored float normal.
+// Capped hull fitting: Quickhull planes scored by how much of the box they cut away, near-parallel ones skipped,
+// each moved out to the points' support for its stored float normal.
 #include "rayaccel/bv/hull_volume.h"
 
 #include <algorithm>

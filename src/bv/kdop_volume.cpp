@@ -1,7 +1,5 @@
-// k-DOP fitting and measuring. Area and volume are exact: each face polygon is the face plane clipped by every
-// other half-space (Sutherland & Hodgman 1974, on a convex polygon in 3D; here in double with projection-carrying
-// vertices rather than geometry/clip_polygon.h's float one), and the volume sums the cones from an interior point
-// over the faces (divergence theorem).
+// k-DOP fitting and measuring: exact area (each face clipped by the other half-spaces, Sutherland & Hodgman 1974, in
+// double) and volume (cones from an interior point over the faces).
 #include "rayaccel/bv/kdop_volume.h"
 
 #include <algorithm>

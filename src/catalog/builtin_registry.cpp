@@ -1,6 +1,7 @@
 // The catalog: the list of built-in structures, in the order `rayaccel list` shows them. Each module adds one line
 // here; the one file of the library that includes every structure (the top layer, see scripts/check_layers.py).
 #include "rayaccel/accel/brute_force.h"
+#include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/bsp_tree.h"
 #include "rayaccel/accel/kd_tree.h"
 #include "rayaccel/accel/octree.h"
@@ -24,5 +25,7 @@ void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   wide::register_wide_bvh(registry);
   register_embree(registry);  // a comparison entry, where Embree was found at build time
 }
+
+std::string default_accelerator_spec() { return "bvh_wide"; }  // the wide SIMD BVH
 
 }  // namespace rayaccel

@@ -1,7 +1,5 @@
-// EmbreeAccelerator: one Embree device and scene over a padded vertex copy and an index buffer of the valid
-// triangles (the ones rayaccel's structures build over; Embree's primitive ids are mapped back to the scene's);
-// rays are mapped to RTCRay (or a lane of RTCRayHit8) with tnear just above t_min so Embree's [tnear, tfar] matches
-// (t_min, t_max].
+// EmbreeAccelerator: one Embree device and scene over a padded vertex copy and the valid triangles (ids mapped back),
+// rays mapped to RTCRay with tnear just above t_min so Embree's [tnear, tfar] matches (t_min, t_max].
 #include "rayaccel/compare/embree_accelerator.h"
 
 #ifdef RAYACCEL_HAVE_EMBREE
@@ -191,8 +189,8 @@ void EmbreeAccelerator::build(const Scene& scene) {
 namespace {
 
 /// Flush-to-zero and denormals-are-zero for the lifetime of the object, the MXCSR setting Embree's documentation
-/// asks applications to make for speed (measured here: teapot-in-a-stadium camera rays 1.45x faster with it), so
-/// batches time Embree as its users run it. The caller's setting is restored on exit.
+/// asks applications to make for speed (what it changes: BENCHMARKS.md, "Floating-point environment"), so batches
+/// time Embree as its users run it. The caller's setting is restored on exit.
 class EmbreeFloatMode {
  public:
   EmbreeFloatMode() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | kFlushToZero | kDenormalsAreZero); }

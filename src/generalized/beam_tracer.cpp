@@ -1,20 +1,34 @@
 // Beam tracer configuration checks, statistics and the image's pixel rays.
 #include "rayaccel/generalized/beam_tracer.h"
 
+#include <limits>
 #include <string>
+
+#include "rayaccel/accel/option_table.h"
 
 namespace rayaccel::generalized {
 
-void check_options(const BeamOptions& config) {
-  if (config.tile_size < 1) throw Error("beams: tile_size " + std::to_string(config.tile_size) + " < 1");
-  if (config.min_tile < 1) throw Error("beams: min_tile " + std::to_string(config.min_tile) + " < 1");
-  if (!(config.max_candidates_per_pixel >= 0.0f)) {
-    throw Error("beams: max_candidates_per_pixel " + std::to_string(config.max_candidates_per_pixel) + " < 0");
-  }
-  if (config.max_front_candidates < 0) {
-    throw Error("beams: max_front_candidates " + std::to_string(config.max_front_candidates) + " < 0");
-  }
+namespace {
+
+const OptionTable<BeamOptions>& beam_option_table() {
+  using O = BeamOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t("beams");
+    t.integer("tile_size", &O::tile_size, 1, std::numeric_limits<int>::max(), "side of the first beams in pixels");
+    t.integer("min_tile", &O::min_tile, 1, std::numeric_limits<int>::max(), "beams are not split below this side");
+    t.boolean("entry_points", &O::entry_points, "rays left over start at the tile's entry node (false: the root)");
+    t.integer("max_front_candidates", &O::max_front_candidates, 0, std::numeric_limits<int>::max(),
+              "the in-front proof is tried only up to this many candidates");
+    t.real("max_candidates_per_pixel", &O::max_candidates_per_pixel, RealRange::at_least(0.0),
+           "a beam with more candidates per pixel is not split");
+    return t;
+  }();
+  return table;
 }
+
+}  // namespace
+
+void check_options(const BeamOptions& config) { beam_option_table().check(config); }
 
 BeamStats& BeamStats::operator+=(const BeamStats& o) {
   beams += o.beams;

@@ -5,12 +5,19 @@
 #include <limits>
 #include <string>
 
+#include "rayaccel/accel/option_table.h"
 #include "rayaccel/core/hit.h"
 
 namespace rayaccel::generalized::cone_detail {
 
 void check_options(const ConeQueryOptions& config) {
-  if (config.samples < 1) throw Error("cone query: samples " + std::to_string(config.samples) + " < 1");
+  static const OptionTable<ConeQueryOptions> table = [] {
+    OptionTable<ConeQueryOptions> t("cone query");
+    t.integer("samples", &ConeQueryOptions::samples, 1, std::numeric_limits<int>::max(),
+              "directions of the pattern that measures coverage");
+    return t;
+  }();
+  table.check(config);
 }
 
 namespace {

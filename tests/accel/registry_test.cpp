@@ -3,9 +3,11 @@
 // unique names, every listed variant creatable, every default valid).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <string>
 
+#include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
 #include "../error_message.h"
@@ -100,6 +102,15 @@ TEST(RegistryLookup, BruteForceIsFirst) {
   ASSERT_FALSE(accelerator_variant_names().empty());
   EXPECT_EQ(accelerator_variant_names().front(), "brute_force");
   EXPECT_EQ(&find_accelerator("brute_force"), &accelerator_registry().front());
+}
+
+TEST(RegistryLookup, DefaultSpecIsAListedStructureOfRayaccel) {
+  const std::string spec = default_accelerator_spec();
+  const auto names = accelerator_variant_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), spec), names.end()) << spec;
+  EXPECT_FALSE(find_accelerator(parse_accelerator_spec(spec).name).comparison);
+  EXPECT_NE(spec, "brute_force");
+  EXPECT_EQ(make_accelerator(spec)->spec(), spec);
 }
 
 TEST(RegistryLookup, MakeAcceleratorRecordsTheSpec) {

@@ -4,6 +4,7 @@
 // a mesh whose edges and vertices lie exactly on pixel rays, a scene where a front triangle hides others, and the bunny.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <filesystem>
@@ -161,6 +162,17 @@ TEST(BeamIdentityShared, BunnyMatchesIntersect) {
     const BeamResult result = generalized::make_generalized_rays(*accel, scene)->trace_beams(pixels_of(frame), {});
     std::string report;
     EXPECT_EQ(differences(*accel, frame, result, report), 0) << spec << "\n" << report;
+  }
+}
+
+TEST(BeamTracer, EveryBvhVolumeHasBeamsAndCones) {
+  // The registry's volume choices, not a list here: a new volume without beams fails this test.
+  const auto& options = find_accelerator("bvh").options;
+  const auto bv = std::find_if(options.begin(), options.end(), [](const OptionSpec& o) { return o.key == "bv"; });
+  ASSERT_NE(bv, options.end());
+  ASSERT_GE(bv->choices.size(), 8u);
+  for (const std::string& volume : bv->choices) {
+    EXPECT_TRUE(generalized::supports_generalized_rays(*make_accelerator("bvh:bv=" + volume))) << volume;
   }
 }
 

@@ -1,7 +1,5 @@
-// HitList: the crossings of one ray with a triangle scene, for all-hits queries. Every structure feeds it the
-// triangles its traversal cannot rule out; each is tested with the watertight kernel over the whole (t_min, t_max]
-// and kept when counts_as_crossing() says that hit is the one counted for its crossing (geometry/crossing.h), so a
-// ray through an edge or vertex of a closed mesh crosses it an even number of times.
+// HitList: the crossings of one ray with a triangle scene for all-hits queries, each crossing counted once also
+// through edges and vertices (geometry/crossing.h).
 #pragma once
 
 #include <algorithm>

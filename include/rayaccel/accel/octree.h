@@ -1,7 +1,5 @@
-// Octree: eight equal children per cell, primitives referenced by every leaf they overlap (box, then the exact SAT
-// test for triangles), front-to-back traversal in the parametric order of Revelles, Urena & Lastra 2000 ("An
-// Efficient Parametric Algorithm for Octree Traversal"), and insertion / removal after the build at a cost
-// proportional to depth: leaves split past max_prims and merge back when their siblings empty out.
+// Octree: eight children per cell, primitives in every leaf they overlap, front-to-back parametric traversal
+// (Revelles, Urena & Lastra 2000), and insertion / removal after the build.
 #pragma once
 
 #include <algorithm>

@@ -1,7 +1,5 @@
-// OptionTable<T>: a structure's options written once, as rows of (key, member of T, range, doc). The registry's
-// OptionSpecs (with defaults printed from a default-constructed T, and the ranges `rayaccel list` shows), the
-// parsing of key=value strings into a T and the check() every constructor calls all come from the rows, so a C++
-// user who builds a KdTreeOptions by hand gets the same checks, naming the same values, as a registry user.
+// OptionTable<T>: a structure's options written once as rows (key, member, range, doc), from which the registry's
+// OptionSpecs, the key=value parsing and the check() every constructor calls all come.
 #pragma once
 
 #include <charconv>

@@ -1,8 +1,5 @@
-// Uniform grid: one regular grid over the scene with compact cell lists (Lagae & Dutre 2008, "Compact, Fast and
-// Robust Grids for Ray Tracing"), resolution after Wald et al. / Ize et al., and 3D-DDA traversal with mailboxing
-// (Amanatides & Woo 1987). Triangle meshes keep each cell's triangles as Triangle4 blocks (simd/triangle_blocks.h,
-// copies of the vertices) tested with the watertight SIMD kernel, and a bit per cell lets the walk pass empty cells
-// without reading their lists. Also declares the binning helpers the two-level grid reuses.
+// Uniform grid with compact cell lists (Lagae & Dutre 2008) and 3D-DDA traversal with mailboxing (Amanatides & Woo
+// 1987); triangle cells are Triangle4 blocks. Also the binning helpers the two-level grid reuses.
 #pragma once
 
 #include <array>
@@ -22,6 +19,12 @@
 #include "rayaccel/simd/triangle_blocks.h"
 
 namespace rayaccel {
+
+// Uniform grid: one regular grid over the scene with compact cell lists (Lagae & Dutre 2008, "Compact, Fast and
+// Robust Grids for Ray Tracing"), resolution after Wald et al. / Ize et al., and 3D-DDA traversal with mailboxing
+// (Amanatides & Woo 1987). Triangle meshes keep each cell's triangles as Triangle4 blocks (simd/triangle_blocks.h,
+// copies of the vertices) tested with the watertight SIMD kernel, and a bit per cell lets the walk pass empty cells
+// without reading their lists. Also declares the binning helpers the two-level grid reuses.
 
 struct UniformGridOptions {
   /// Cells per axis ~ density * cbrt(n) for a cubic box (about density^3 cells per primitive). The default 3 is the

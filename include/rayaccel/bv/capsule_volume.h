@@ -1,7 +1,5 @@
-// Capsule (swept sphere, "sphere-swept line") as a BVH volume: the points within a radius of a segment (Larsen et
-// al. 1999, "Fast Proximity Queries with Swept Sphere Volumes"). Fit: for each candidate axis (the points' principal
-// axis, the farthest pair of extremal points, the three world axes) and a few radii from the smallest up, the
-// shortest segment on that axis; the candidate of least surface area wins. Ray test: ray_capsule_interval.
+// Capsule (swept sphere) as a BVH volume (Larsen et al. 1999): fitted over candidate axes and a few radii, least
+// surface area winning. Ray test: ray_capsule_interval (geometry/ray_capsule.h).
 #pragma once
 
 #include <cmath>

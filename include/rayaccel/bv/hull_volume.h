@@ -1,7 +1,5 @@
-// Capped convex hull as a BVH volume: the points' box cut by at most kMaxPlanes planes of their convex hull
-// (Quickhull, Barber et al. 1996), chosen by how much of the box each face cuts away (face area times the depth of
-// the cut), near-parallel faces skipped; every plane is then moved out to the points' support, so the volume
-// encloses the points for any choice. Ray test: intersect_hull (geometry/ray_hull.h).
+// Capped convex hull as a BVH volume: the points' box cut by at most kMaxPlanes Quickhull planes (Barber et al. 1996)
+// moved out to the points' support, so it encloses them for any choice. Ray test: geometry/ray_hull.h.
 #pragma once
 
 #include <cstdint>

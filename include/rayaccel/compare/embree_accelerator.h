@@ -1,8 +1,5 @@
-// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only: registered as
-// "embree" (options quality, robust, threads) but marked a comparison entry, so it is not among the variants the
-// conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time
-// (intersect_packets, occluded_packets: rtcIntersect8, rtcOccluded8 eight at a time) inside the same TBB batch loop
-// every structure uses, so timings compare like with like. Available only when RAYACCEL_HAVE_EMBREE is defined.
+// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface for benchmark comparisons only (the registry's
+// "embree" comparison entry, where RAYACCEL_HAVE_EMBREE is defined).
 #pragma once
 
 #include <vector>
@@ -10,6 +7,12 @@
 #include "rayaccel/accel/registry.h"
 
 namespace rayaccel {
+
+// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only: registered as
+// "embree" (options quality, robust, threads) but marked a comparison entry, so it is not among the variants the
+// conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time
+// (intersect_packets, occluded_packets: rtcIntersect8, rtcOccluded8 eight at a time) inside the same TBB batch loop
+// every structure uses, so timings compare like with like. Available only when RAYACCEL_HAVE_EMBREE is defined.
 
 /// Adds "embree" (a comparison entry) where Embree was found at build time; nothing otherwise.
 void register_embree(std::vector<AcceleratorInfo>& registry);

@@ -1,7 +1,5 @@
-// Directed rounding of double results to float, used where a float bound must enclose an exact value (fitted
-// bounding volumes, the k-DOP ray projections). Round-to-nearest followed by a one-ulp step found by bit
-// manipulation, as pbrt's NextFloatUp/NextFloatDown (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd
-// ed., section 3.9); no libm call, as these run once per ray and slab.
+// Directed rounding of double results to float where a float bound must enclose an exact value: round to nearest
+// and one ulp step by bit manipulation, as pbrt's NextFloatUp/Down (3rd ed., 3.9), no libm call.
 #pragma once
 
 #include <bit>

@@ -1,7 +1,5 @@
-// HugePageAllocator: a std::allocator replacement for the large arrays of built structures (nodes, leaf blocks).
-// Blocks of 2 MiB and more are 2 MiB-aligned and marked for transparent huge pages (Linux madvise MADV_HUGEPAGE), so
-// that filling them takes one page fault per 2 MiB instead of per 4 KiB and traversal misses the TLB less; smaller
-// blocks and other systems use the ordinary allocator. The contents and behaviour of the containers are unchanged.
+// HugePageAllocator: a std::allocator for the large arrays of built structures; blocks of 2 MiB and more are
+// 2 MiB-aligned and marked for transparent huge pages (madvise), fewer page faults and TLB misses.
 #pragma once
 
 #include <cstddef>

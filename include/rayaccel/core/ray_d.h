@@ -1,12 +1,5 @@
-// The double-precision ray, its per-ray constants and its hit record (RayD, PreparedRayD, HitD): Ray, PreparedRay and
-// Hit (ray.h, hit.h) with double coordinates and t, for the double path. Shear constants after Woop, Benthin, Wald
-// 2013, "Watertight Ray/Triangle Intersection" (JCGT 2(1)); reciprocal direction and signs for the slab test
-// (Ize 2013).
-//
-// The double domain: every coordinate the double path takes (vertices, ray origins, ray directions) is 0 or has a
-// magnitude in [2^-64, 2^64] (about 5.4e-20 to 1.8e19). Inside it, every product the exact edge functions form
-// (geometry/exact_edge.h) stays far from double's overflow and underflow, so their signs are exact; DoubleScene
-// rejects vertices outside it with an Error, and a ray with a component outside it is void.
+// The double-precision ray, its per-ray constants and its hit record (RayD, PreparedRayD, HitD), after Woop, Benthin,
+// Wald 2013 (shear) and Ize 2013 (slab test), and the double domain every input of the double path lies in.
 #pragma once
 
 #include <cmath>
@@ -17,6 +10,11 @@
 #include "rayaccel/core/hit.h"
 
 namespace rayaccel {
+
+// The double domain: every coordinate the double path takes (vertices, ray origins, ray directions) is 0 or has a
+// magnitude in [2^-64, 2^64] (about 5.4e-20 to 1.8e19). Inside it, every product the exact edge functions form
+// (geometry/exact_edge.h) stays far from double's overflow and underflow, so their signs are exact; DoubleScene
+// rejects vertices outside it with an Error, and a ray with a component outside it is void.
 
 inline constexpr double kDoubleDomainMax = 0x1p64;
 inline constexpr double kDoubleDomainMin = 0x1p-64;

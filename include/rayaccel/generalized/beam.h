@@ -1,7 +1,5 @@
-// Beam: a pyramid of rays from one apex with a convex polygonal cross-section (Heckbert & Hanrahan 1984, "Beam
-// tracing polygonal objects"), and the conservative tests that drive traversal by beams: a volume or triangle is
-// declared outside only when no ray of the beam can meet it, tried both ways (the beam's side planes against the
-// object, and the object's own planes against the beam's edge rays: the separating-axis test for convex sets).
+// Beam (Heckbert & Hanrahan 1984): a pyramid of rays with a convex cross-section, and the conservative outside
+// tests that drive traversal by beams (both ways round: the separating-axis test for convex sets).
 #pragma once
 
 #include <array>

@@ -1,7 +1,5 @@
-// Cone: the rays from one apex within a half-angle of an axis, over a range of distances (Amanatides 1984, "Ray
-// tracing with cones"), with its conservative region tests: exact against a ball for the infinite cone, a ball or a
-// box through the box's bounding ball and the cone's circumscribed square pyramid (a Beam), and a fixed pattern of
-// directions spread evenly over the cone's solid angle, which estimates what fraction of the cone a primitive covers.
+// Cone (Amanatides 1984): rays from one apex within a half-angle of an axis, its conservative tests against balls
+// and boxes, and a fixed pattern of directions that estimates the fraction of the cone a primitive covers.
 #pragma once
 
 #include <limits>

@@ -1,8 +1,5 @@
-// How generalized rays (beams, cones) see a structure's tree: the root, the children a region may meet (each child's
-// volume tested against the region conservatively), a leaf's primitives, and the structure's own single-ray
-// traversal started at any node (the entry point). One view per structure family: Bvh<BV>, the wide BVH, and the
-// kd-tree (whose rays always start at the root: its traversal walks cells front to back from the root cell).
-// A region is any type with box_outside(AABB, slack) and sphere_outside(center, radius), true only when proven.
+// How generalized rays (beams, cones) see a structure's tree: one view per family (Bvh<BV>, the wide BVH, the
+// kd-tree) with the root, the children a region may meet, a leaf's primitives and the entry-point traversal.
 #pragma once
 
 #include <algorithm>
@@ -18,6 +15,12 @@
 
 namespace rayaccel::generalized {
 
+// How generalized rays (beams, cones) see a structure's tree: the root, the children a region may meet (each child's
+// volume tested against the region conservatively), a leaf's primitives, and the structure's own single-ray
+// traversal started at any node (the entry point). One view per structure family: Bvh<BV>, the wide BVH, and the
+// kd-tree (whose rays always start at the root: its traversal walks cells front to back from the root cell).
+// A region is any type with box_outside(AABB, slack) and sphere_outside(center, radius), true only when proven.
+
 /// Growth of a box before a region test: covers boxes that a single ray's slab test accepts although the exact ray
 /// misses them by rounding (a relative 2^-16 of the box's largest coordinate dwarfs the slab test's few ulps), so a
 /// region that excludes a box also excludes every ray traversal that could enter it.
@@ -28,7 +31,7 @@ inline float region_slack(const AABB& box) {
 }
 
 /// Bvh<BV>: a reference is a node index. A node's own volume is tested: spheres by the ball test, every other volume
-/// by its enclosing box (AABB nodes exactly so; OBB and k-DOP nodes through bounds(), conservative).
+/// by its enclosing box (AABB nodes exactly so; OBB, k-DOP, hull and capsule nodes through bounds(), conservative).
 template <BoundingVolume BV>
 class BvhView {
  public:

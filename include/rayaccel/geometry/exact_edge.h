@@ -1,5 +1,12 @@
-// Exact edge functions of the watertight triangle test, for the rare rays whose float edge function lies inside its
-// rounding-error bound (see ray_triangle.h). The edge function of vertices p, q for the ray o + t d, in the ray's
+// Exact edge functions of the watertight triangle test for the rare rays whose float edge function lies inside its
+// error bound (ray_triangle.h): double with a static error bound, else expansion arithmetic (Shewchuk 1997).
+#pragma once
+
+#include "rayaccel/core/vec3.h"
+
+namespace rayaccel {
+
+// The edge function of vertices p, q for the ray o + t d, in the ray's
 // sheared frame (axes kx, ky, kz, kz dominant), is
 //   E = X_p Y_q - Y_p X_q,  X = A_x - (d_x / d_z) A_z,  Y = A_y - (d_y / d_z) A_z,  A = vertex - o,
 // and E d_z = d_z (p_x q_y - p_y q_x) + d_x (p_y q_z - p_z q_y) + d_y (p_z q_x - p_x q_z) with p, q = A_p, A_q:
@@ -7,11 +14,6 @@
 // otherwise without any rounding by expansion arithmetic (Shewchuk 1997, "Adaptive Precision Floating-Point
 // Arithmetic and Fast Robust Geometric Predicates"). Compiled in the
 // library (src/geometry/exact_edge.cpp), so the caller's floating-point flags cannot change it.
-#pragma once
-
-#include "rayaccel/core/vec3.h"
-
-namespace rayaccel {
 
 struct DVec3;  // core/dvec3.h: declared only, so the float code that includes this header does not see double types
 

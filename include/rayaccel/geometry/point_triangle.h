@@ -1,7 +1,5 @@
-// Closest point of a triangle to a point (Ericson, "Real-Time Collision Detection", 2005, section 5.1.5): the
-// point's Voronoi region of the triangle (a vertex, an edge or the face) is found from six dot products, and the
-// point projected onto that feature. Computed in double from the float inputs, so that every structure that calls it
-// for the same triangle and point gets the same distance, bit for bit, and a far query point keeps its precision.
+// Closest point of a triangle to a point (Ericson 2005, 5.1.5: the Voronoi region from six dot products), computed
+// in double from the float inputs so every structure gets the same distance, bit for bit.
 #pragma once
 
 #include "rayaccel/core/vec3.h"

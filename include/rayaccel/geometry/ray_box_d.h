@@ -1,11 +1,5 @@
 // A double ray against a float box stored relative to a double anchor point, conservative in double (Ize 2013,
-// "Robust BVH Ray Traversal", with u = 2^-53). Boxes far from the origin keep float's resolution near their anchor
-// instead of float's ulp at their absolute position (1 at 1e7). Per ray, the origin is moved into the anchor's frame
-// (o' = o - anchor, rounded) and each face plane is pushed outward by a slack of 8 ulps of |o'| (more than the error
-// of o'); the slab distances are then widened by 2*gamma(6), which covers the rounding of the pushed plane, of the
-// difference, of the reciprocal and of the product. So rounding never turns a ray that touches the closed box into
-// a miss. NaN slab distances (a ray parallel to and lying in a face plane) constrain nothing, and void rays (empty
-// interval) never hit, as in ray_box.h.
+// "Robust BVH Ray Traversal", with u = 2^-53): far boxes keep float's resolution near their anchor.
 #pragma once
 
 #include <cmath>
@@ -17,6 +11,14 @@
 #include "rayaccel/core/ray_d.h"
 
 namespace rayaccel {
+
+// Boxes far from the origin keep float's resolution near their anchor instead of float's ulp at their absolute
+// position (1 at 1e7). Per ray, the origin is moved into the anchor's frame
+// (o' = o - anchor, rounded) and each face plane is pushed outward by a slack of 8 ulps of |o'| (more than the error
+// of o'); the slab distances are then widened by 2*gamma(6), which covers the rounding of the pushed plane, of the
+// difference, of the reciprocal and of the product. So rounding never turns a ray that touches the closed box into
+// a miss. NaN slab distances (a ray parallel to and lying in a face plane) constrain nothing, and void rays (empty
+// interval) never hit, as in ray_box.h.
 
 inline constexpr double kSlabWidenUpD = 1.0 + 2.0 * double_gamma(6);
 inline constexpr double kSlabWidenDownD = 1.0 - 2.0 * double_gamma(6);

@@ -1,7 +1,5 @@
-// Ray/capsule (swept sphere) interval in double precision: the infinite cylinder about the axis segment gives the
-// candidate entry and exit; where one of them falls beyond an end of the segment, the end sphere on that side gives
-// it instead (the capsule is convex and each end sphere contains the part of the other that lies beyond it). The
-// cylinder quadratic uses the cancellation-free form of ray_sphere.h (Haines et al., Ray Tracing Gems 2019).
+// Ray/capsule interval in double: the infinite cylinder's entry and exit, replaced by an end sphere's beyond the
+// segment's ends; the cylinder quadratic in the cancellation-free form of ray_sphere.h (Ray Tracing Gems 2019).
 #pragma once
 
 #include <cmath>

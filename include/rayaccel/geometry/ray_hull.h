@@ -1,8 +1,5 @@
-// Ray test of a capped convex hull: a box cut by up to eight arbitrary planes. The box is clipped first by the robust
-// slab test (ray_box.h, Ize 2013), which also makes it the cheap first filter; each plane is then the one-sided form
-// of the OBB's slab test (ray_obb.h): the ray carried onto the plane's normal relative to the box centre, the plane
-// pushed out by the same bound on that transform's rounding, so the test is conservative in floating point. The
-// planes are stored lane by lane and tested four at a time with SSE2 (every x86-64 CPU has it).
+// Ray test of a capped convex hull (a box cut by up to eight planes): the robust slab test (Ize 2013) first, then
+// each plane as the one-sided OBB slab (ray_obb.h), conservative in floating point, four planes at a time (SSE2).
 #pragma once
 
 #include <emmintrin.h>

@@ -1,7 +1,5 @@
-// Ray/oriented-box test: the ray is carried into the box frame (three dot products per vector) and clipped by the
-// three slabs as in the robust AABB test (Ize 2013). The slabs are widened by a bound on the frame transform's
-// rounding error, so the test is conservative in floating point (error analysis in the style of Pharr et al., pbrt
-// section 3.9).
+// Ray/oriented-box test: the ray carried into the box frame and clipped by its three slabs as in the robust AABB
+// test (Ize 2013), widened by a bound on the transform's rounding (pbrt 3.9 style), so conservative.
 #pragma once
 
 #include <cmath>

@@ -1,3 +1,23 @@
+// Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, JCGT 2(1)) with every hit/miss decision exact for
+// the float inputs: float edge functions with a rounding-error bound (pbrt 3rd ed., 3.9.6), recomputed exactly
+// inside it (exact_edge.h, Shewchuk 1997), and a hit only where t clears t_min by a bound on t's error.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+
+#include "rayaccel/core/float_rounding.h"
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+#include "rayaccel/core/vec3.h"
+#include "rayaccel/geometry/exact_edge.h"
+
+namespace rayaccel {
+
 // Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)),
 // with every hit/miss decision exact for the float inputs. Edge functions are computed in float in the ray's sheared
 // frame, together with a bound on their rounding error (the error analysis of Pharr, Jakob, Humphreys, "Physically
@@ -19,22 +39,6 @@
 // from "hitting" the plane it left at a small positive t that box culling (exactly conservative) rules out.
 // t is a ratio of sums of products of edge functions and vertex depths; for a huge triangle close to the origin
 // (depths tiny against its width) those products underflow float, so such triangles take t from double.
-#pragma once
-
-#include <algorithm>
-#include <cmath>
-#include <cstddef>
-#include <cstdint>
-#include <initializer_list>
-#include <limits>
-
-#include "rayaccel/core/float_rounding.h"
-#include "rayaccel/core/hit.h"
-#include "rayaccel/core/ray.h"
-#include "rayaccel/core/vec3.h"
-#include "rayaccel/geometry/exact_edge.h"
-
-namespace rayaccel {
 
 /// The triangle relative to the ray origin in the ray's sheared frame: x, y after the shear, z before it.
 struct ShearedTriangle {

@@ -1,3 +1,16 @@
+// Watertight ray/triangle intersection in double (Woop, Benthin, Wald 2013, JCGT 2(1)) with the float kernel's
+// rules carried over (ray_triangle.h): error-bounded edge functions, exact signs inside the bound (Shewchuk 1997).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "rayaccel/core/ray_d.h"
+#include "rayaccel/geometry/exact_edge.h"
+
+namespace rayaccel {
+
 // Watertight ray/triangle intersection in double (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection",
 // JCGT 2(1)), with the rules of the float kernel (ray_triangle.h) carried over to double: edge functions in the ray's
 // sheared frame with a bound on their rounding error (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed.,
@@ -11,16 +24,6 @@
 // forms overflows or underflows, so no rescaling is needed.
 // A hit counts when t_min < t < hit.t and t clears t_min by the bound on t's error (as in the float kernel: 3 edge
 // error / |det| of the depth range plus gamma(12) of the farthest vertex distance).
-#pragma once
-
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-
-#include "rayaccel/core/ray_d.h"
-#include "rayaccel/geometry/exact_edge.h"
-
-namespace rayaccel {
 
 /// Constants of the double kernel's error bounds (double_gamma(n): the relative bound of n roundings).
 struct WatertightBoundsD {

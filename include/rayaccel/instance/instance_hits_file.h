@@ -1,7 +1,5 @@
-// The .ihits file: one 24-byte little-endian record per ray of an instanced trace (float32 t, uint32 prim_id,
-// float32 u, float32 v, uint32 geom_id, uint32 instance_id; a miss: t = +inf, ids 0xFFFFFFFF, u = v = 0), the
-// instanced counterpart of the 16-byte .hits record (scene/ray_io.h). The CLI writes it and the Python package's
-// IHIT_DTYPE has its layout.
+// The .ihits file: one 24-byte little-endian record per ray of an instanced trace (t, prim_id, u, v, geom_id,
+// instance_id; a miss: t = +inf, ids 0xFFFFFFFF), the layout of the CLI's files and Python's IHIT_DTYPE.
 #pragma once
 
 #include <cstdint>

@@ -1,8 +1,24 @@
-// InstancedAccelerator: a two-level structure over an InstancedScene — one bottom-level Accelerator per geometry,
-// made from any registry spec (accel/registry.h; bvh_wide by default), and a TopLevelBvh over the instances' world
-// boxes. A ray reaching an instance is mapped to its object space and traced there, as in Embree's instancing and
-// pbrt-v4's TransformedPrimitive.
-//
+// InstancedAccelerator: a two-level structure over an InstancedScene: a bottom-level structure per geometry
+// (any registry spec) under a top level over the instances' world boxes, as Embree's instancing and pbrt-v4's
+// TransformedPrimitive.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayaccel/accel/accelerator.h"
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+#include "rayaccel/instance/instanced_scene.h"
+#include "rayaccel/instance/top_level_bvh.h"
+
+namespace rayaccel {
+
 // Rounding and watertightness. Each ray is mapped to an instance's object space once (origin and direction through
 // the inverse transform in double, each rounded to the nearest float: transform_ray() in affine.h), and every
 // triangle of that instance is tested against that one float ray by the bottom level's watertight test. So within
@@ -36,25 +52,7 @@
 // direction as the kernels do (readable_direction(): subnormal components are zero) before mapping it. occluded()
 // asks the top structure's occluded(); its per-instance test is the bottom level's closest hit, as a user primitive
 // must report its t. A structure that cannot take user primitives is refused with an Error naming it. The default is
-// "bvh_top": on the 1,000-bunny grid of bench/instance_bench.cpp (one thread, median of 5) it traced 1.3-1.4 times
-// as fast as top = "bvh" and 1.7-2.0 times as fast as top = "bvh_wide" (BENCHMARKS.md, "Instances: two levels").
-#pragma once
-
-#include <cstddef>
-#include <cstdint>
-#include <limits>
-#include <memory>
-#include <span>
-#include <string>
-#include <vector>
-
-#include "rayaccel/accel/accelerator.h"
-#include "rayaccel/core/hit.h"
-#include "rayaccel/core/ray.h"
-#include "rayaccel/instance/instanced_scene.h"
-#include "rayaccel/instance/top_level_bvh.h"
-
-namespace rayaccel {
+// "bvh_top", the fastest top level measured (BENCHMARKS.md, "Instances: two levels").
 
 /// A closest hit in an instanced scene: the bottom level's Hit fields (t, prim_id and u, v of the geometry's
 /// primitive) plus which instance and geometry it was found in. A miss has t = +inf and every id kInvalidPrimId.

@@ -1,7 +1,5 @@
-// TopLevelBvh: the binary BVH over instance world boxes that a two-level structure traverses first. Built by the
-// binned SAH builder (bvh/binned_sah_builder.h, Wald 2007) over one reference per instance with leaves of one
-// instance, since a leaf visit (a ray transform and a bottom-level traversal) costs far more than a box test;
-// traversed near child first with the conservative slab test (geometry/ray_box.h, Ize 2013).
+// TopLevelBvh: the binary BVH over instance world boxes, binned SAH (Wald 2007) with one instance per leaf (a leaf
+// visit costs far more than a box test), traversed near child first with the slab test (Ize 2013).
 #pragma once
 
 #include <cstddef>

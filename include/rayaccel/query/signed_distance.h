@@ -1,7 +1,5 @@
-// Signed distance to a closed triangle mesh for batches of points: the distance from the closest-point query
-// (branch and bound over the structure), negative where the crossing-parity inside test says the point is inside.
-// The sign comes from parity rather than from the closest feature's normal, which at an edge or vertex needs
-// angle-weighted pseudo-normals (Bærentzen & Aanæs 2005) to be right; parity is exact off the surface.
+// Signed distance to a closed triangle mesh for batches of points: the closest-point distance, negative where the
+// crossing-parity inside test says inside (exact off the surface, unlike pseudo-normals, Baerentzen & Aanaes 2005).
 #pragma once
 
 #include <span>

@@ -1,9 +1,5 @@
-// Two uses of cones in the renderer (Amanatides 1984, "Ray tracing with cones"), each beside the many-ray estimate it
-// replaces: soft shadows from a spherical light (the fraction of the light's cone left unblocked, from one cone per
-// shading point, against shadow rays to random directions in the same cone), and anti-aliasing with one cone per
-// pixel (the pixel's circumscribed cone, colours weighted by the share of it each primitive is the closest hit on,
-// against random camera rays in the same cone). Both sides estimate the same integral, so their errors against a
-// high-sample reference compare directly.
+// Two uses of cones in the renderer (Amanatides 1984): soft shadows from a spherical light and anti-aliasing, each
+// beside the many-ray estimate of the same integral it replaces, so their errors compare directly.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +11,13 @@
 #include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
+
+// Two uses of cones in the renderer (Amanatides 1984, "Ray tracing with cones"), each beside the many-ray estimate it
+// replaces: soft shadows from a spherical light (the fraction of the light's cone left unblocked, from one cone per
+// shading point, against shadow rays to random directions in the same cone), and anti-aliasing with one cone per
+// pixel (the pixel's circumscribed cone, colours weighted by the share of it each primitive is the closest hit on,
+// against random camera rays in the same cone). Both sides estimate the same integral, so their errors against a
+// high-sample reference compare directly.
 
 enum class ConeEffect { soft_shadows, anti_aliasing };
 /// Parses "shadows" or "aa"; throws Error naming both otherwise.

@@ -1,7 +1,5 @@
-// Heat maps of traversal cost: the cost of a ray (nodes visited + primitives tested), its place on a linear scale
-// from the image's cheapest ray to its 99th-percentile cost (a few grazing silhouette rays would otherwise squeeze
-// everything else into the dark end), or on a scale several images share, and the legend (colour bar with the
-// numeric range) drawn into the image.
+// Heat maps of traversal cost (nodes visited + primitives tested) on a linear scale from the cheapest ray to the
+// 99th percentile, or one scale several images share, with a legend drawn into the image.
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,5 @@
-// Anti-aliasing by sampling pixel corners: uniform supersampling on an n x n grid of sub-squares per pixel, and
-// adaptive subdivision (Whitted 1980) that splits a square into four only where its corner samples differ in
-// contrast (Mitchell 1987: (max - min) / (max + min) per channel) by at least a threshold, down to a maximum level.
-// Corners of pixels are traced once and shared by the neighbours that meet there.
+// Anti-aliasing by sampling shared pixel corners: uniform n x n supersampling, and adaptive subdivision (Whitted
+// 1980) where a square's corners differ in contrast (Mitchell 1987) by at least a threshold.
 #pragma once
 
 #include <cstdint>

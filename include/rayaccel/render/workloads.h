@@ -1,7 +1,5 @@
-// The ray kinds benchmarks and renders trace: primary camera rays, one cosine-weighted diffuse bounce per hit,
-// ambient-occlusion shadow rays of a given length, and shadow rays to a point light. Deterministic for a given seed.
-// Secondary-ray origins follow pbrt's conservative offset (Pharr, Jakob, Humphreys, "Physically Based Rendering",
-// 3rd ed., section 3.9) or, as many renderers do, a fixed distance along the normal.
+// The ray kinds benchmarks and renders trace (primary, cosine diffuse, ambient-occlusion shadow, point-light shadow),
+// deterministic per seed; secondary origins offset as pbrt does (3rd ed., 3.9) or by a fixed distance.
 #pragma once
 
 #include <cstddef>

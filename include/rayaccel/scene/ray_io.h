@@ -1,14 +1,5 @@
-// The exchange formats other tools read and write (raw little-endian, no header):
-//   .rays  32 bytes per ray: float32 ox oy oz tmin dx dy dz tmax
-//   .hits  16 bytes per ray: float32 t, uint32 prim_id, float32 u, float32 v (miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
-//   .occ   1 byte per ray: 1 occluded, 0 not
-//   .points   12 bytes per point: float32 x y z (query points of closest-point and inside queries)
-//   .closest  28 bytes per point: float32 x y z distance, uint32 prim_id, float32 u v (the ClosestPoint record;
-//             nothing found: distance=+inf, prim=0xFFFFFFFF, the rest 0)
-//   .counts   4 bytes per ray: uint32 (crossings per ray of an all-hits query)
-//   .rays64   64 bytes per ray: float64 ox oy oz tmin dx dy dz tmax (the double path's RayD)
-//   .hits64   32 bytes per ray: float64 t, uint32 prim_id, uint32 0 (padding), float64 u, float64 v (the double
-//             path's HitD; miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
+// The raw little-endian exchange formats other tools read and write (.rays, .hits, .occ, .points, .closest, .counts,
+// .rays64, .hits64; layouts below).
 #pragma once
 
 #include <cstdint>
@@ -21,6 +12,18 @@
 #include "rayaccel/core/ray.h"
 
 namespace rayaccel {
+
+// Layouts (raw little-endian, no header):
+//   .rays  32 bytes per ray: float32 ox oy oz tmin dx dy dz tmax
+//   .hits  16 bytes per ray: float32 t, uint32 prim_id, float32 u, float32 v (miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
+//   .occ   1 byte per ray: 1 occluded, 0 not
+//   .points   12 bytes per point: float32 x y z (query points of closest-point and inside queries)
+//   .closest  28 bytes per point: float32 x y z distance, uint32 prim_id, float32 u v (the ClosestPoint record;
+//             nothing found: distance=+inf, prim=0xFFFFFFFF, the rest 0)
+//   .counts   4 bytes per ray: uint32 (crossings per ray of an all-hits query)
+//   .rays64   64 bytes per ray: float64 ox oy oz tmin dx dy dz tmax (the double path's RayD)
+//   .hits64   32 bytes per ray: float64 t, uint32 prim_id, uint32 0 (padding), float64 u, float64 v (the double
+//             path's HitD; miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
 
 struct RayD;  // core/ray_d.h: declared here so that float code including this header sees no double types
 struct HitD;

@@ -1,14 +1,5 @@
 // Scene: the primitives every accelerator is built over, with per-primitive bounds and the one dispatch point from
-// a primitive id to its ray test.
-//
-// Rules for bad geometry (documented once, here):
-// - A triangle with a NaN or infinite vertex coordinate, or a sphere with a non-finite center or a radius that is
-//   not finite and > 0, is *invalid*: it keeps its id, is excluded from bounds() and build_references(), and is
-//   never hit.
-// - A zero-area (degenerate) triangle — edge cross product exactly zero, computed exactly from the stored floats —
-//   is treated the same way: it keeps its id, is excluded from bounds() and build_references(), and is never hit
-//   (in floating point the sheared test could otherwise report a hit on a collinear triangle). degenerate_count()
-//   reports how many there are; invalid_count() counts only the non-finite ones.
+// a primitive id to its ray test; the rules for invalid and degenerate primitives are stated once, below.
 #pragma once
 
 #include <array>
@@ -27,6 +18,15 @@
 #include "rayaccel/geometry/ray_triangle.h"
 
 namespace rayaccel {
+
+// Rules for bad geometry (documented once, here):
+// - A triangle with a NaN or infinite vertex coordinate, or a sphere with a non-finite center or a radius that is
+//   not finite and > 0, is *invalid*: it keeps its id, is excluded from bounds() and build_references(), and is
+//   never hit.
+// - A zero-area (degenerate) triangle — edge cross product exactly zero, computed exactly from the stored floats —
+//   is treated the same way: it keeps its id, is excluded from bounds() and build_references(), and is never hit
+//   (in floating point the sheared test could otherwise report a hit on a collinear triangle). degenerate_count()
+//   reports how many there are; invalid_count() counts only the non-finite ones.
 
 enum class PrimitiveKind { triangles, spheres, user };
 const char* to_string(PrimitiveKind kind);
