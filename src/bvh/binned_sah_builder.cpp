@@ -4,11 +4,16 @@
 #include "rayaccel/bvh/binned_sah_builder.h"
 
 #include <emmintrin.h>
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "rayaccel/bvh/top_down_builder.h"
@@ -19,6 +24,11 @@ namespace rayaccel {
 namespace {
 
 constexpr std::uint32_t kMaxBins = 64;
+/// Nodes of at least this many references are binned (and their centroid bounds found) by several threads, in
+/// chunks of kParallelChunk; below it a task's overhead outweighs the work. Bins merge exactly (min, max and integer
+/// sums), so the split, and the tree, are those of the serial pass whatever the thread count.
+constexpr std::size_t kParallelBinning = std::size_t{1} << 15;
+constexpr std::size_t kParallelChunk = std::size_t{1} << 13;
 
 // A reference's box is read as two unaligned 4-float loads: (lo.x, lo.y, lo.z, hi.x) and (hi.x, hi.y, hi.z, id).
 // Only lanes 0..2 are ever used; lane 3 holds whatever follows and is ignored.
@@ -68,6 +78,15 @@ struct alignas(16) Bins {
     }
   }
   __m128i counts(std::uint32_t i) const { return _mm_load_si128(reinterpret_cast<const __m128i*>(count[i])); }
+  void merge(const Bins& other, std::uint32_t bin_count) {
+    for (std::uint32_t i = 0; i < bin_count; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        lo[i][a] = _mm_min_ps(lo[i][a], other.lo[i][a]);
+        hi[i][a] = _mm_max_ps(hi[i][a], other.hi[i][a]);
+      }
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[i]), _mm_add_epi32(counts(i), other.counts(i)));
+    }
+  }
 };
 
 AABB to_aabb(__m128 lo, __m128 hi) {
@@ -112,32 +131,56 @@ struct SweepBoxes {
   }
 };
 
-BinMap map_for(std::span<const PrimRef> refs, std::uint32_t bin_count) {
+/// Bounds of the references' doubled centroids (lanes 0..2; lane 3 unused): what the bins are laid over.
+struct CentroidBox {
   __m128 lo = _mm_set1_ps(std::numeric_limits<float>::infinity());
   __m128 hi = _mm_set1_ps(-std::numeric_limits<float>::infinity());
-  for (const PrimRef& r : refs) {
-    const __m128 c = _mm_add_ps(load_lo(r), load_hi(r));
+  bool known = false;  ///< false: not yet found (the hint of the root and after a median split)
+
+  void extend(__m128 c) {
     lo = _mm_min_ps(lo, c);
     hi = _mm_max_ps(hi, c);
   }
+  void extend(const CentroidBox& b) {
+    lo = _mm_min_ps(lo, b.lo);
+    hi = _mm_max_ps(hi, b.hi);
+  }
+};
+
+inline __m128 doubled_centroid(const PrimRef& r) { return _mm_add_ps(load_lo(r), load_hi(r)); }
+
+CentroidBox centroid_box_of(std::span<const PrimRef> refs) {
+  const auto serial = [](std::span<const PrimRef> part) {
+    CentroidBox box;
+    for (const PrimRef& r : part) box.extend(doubled_centroid(r));
+    return box;
+  };
+  if (refs.size() < kParallelBinning) return serial(refs);
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, refs.size(), kParallelChunk), CentroidBox{},
+      [&](const tbb::blocked_range<std::size_t>& r, CentroidBox box) {
+        box.extend(serial(refs.subspan(r.begin(), r.size())));
+        return box;
+      },
+      [](CentroidBox a, const CentroidBox& b) {
+        a.extend(b);
+        return a;
+      });
+}
+
+BinMap map_for(const CentroidBox& centroids, std::uint32_t bin_count) {
   alignas(16) float l[4], h[4], s[4] = {0, 0, 0, 0};
-  _mm_store_ps(l, lo);
-  _mm_store_ps(h, hi);
+  _mm_store_ps(l, centroids.lo);
+  _mm_store_ps(h, centroids.hi);
   for (int a = 0; a < 3; ++a) {
     const float extent = h[a] - l[a];
     s[a] = extent > 0.0f ? static_cast<float>(bin_count) / extent : 0.0f;
   }
-  return {lo, _mm_load_ps(s), _mm_set1_ps(static_cast<float>(bin_count - 1))};
+  return {centroids.lo, _mm_load_ps(s), _mm_set1_ps(static_cast<float>(bin_count - 1))};
 }
 
-}  // namespace
-
-BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_count, int block_shift) {
-  BinnedSplit best;
-  const BinMap map = map_for(refs, bin_count);
-  // Reused per thread and cleared only as far as used: small nodes are many.
-  thread_local Bins bins;
-  bins.clear(bin_count);
+/// Adds refs to the bins laid out by `map`.
+void bin_references(std::span<const PrimRef> refs, const BinMap& map, Bins& bins) {
   for (const PrimRef& r : refs) {
     alignas(16) std::int32_t index[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(index), map.bins_of(r));
@@ -150,6 +193,41 @@ BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_c
       ++bins.count[i][a];
     }
   }
+}
+
+/// The bins of refs, in `bins` (cleared here): one pass by this thread, or for large nodes one per thread over
+/// chunks, merged. The caller's thread may run other nodes' splits while it waits for the chunks, so `bins` must not
+/// be the thread's reused bins then.
+void bin_all(std::span<const PrimRef> refs, const BinMap& map, std::uint32_t bin_count, Bins& bins) {
+  bins.clear(bin_count);
+  if (refs.size() < kParallelBinning) {
+    bin_references(refs, map, bins);
+    return;
+  }
+  tbb::combinable<Bins> partial([bin_count] {
+    Bins b;
+    b.clear(bin_count);
+    return b;
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), kParallelChunk),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      bin_references(refs.subspan(r.begin(), r.size()), map, partial.local());
+                    });
+  partial.combine_each([&](const Bins& b) { bins.merge(b, bin_count); });
+}
+
+/// The best split of refs whose doubled centroids lie in `centroids`.
+BinnedSplit find_split(std::span<const PrimRef> refs, const CentroidBox& centroids, std::uint32_t bin_count,
+                       int block_shift) {
+  BinnedSplit best;
+  const BinMap map = map_for(centroids, bin_count);
+  // Small nodes are many: their bins are reused per thread (and cleared only as far as used). Large ones wait for
+  // other threads, during which this thread may bin another node, so theirs are their own.
+  thread_local Bins reused;
+  std::unique_ptr<Bins> own;
+  if (refs.size() >= kParallelBinning) own = std::make_unique<Bins>();
+  Bins& bins = own ? *own : reused;
+  bin_all(refs, map, bin_count, bins);
   // Axes that can be split: extent > 0 and a finite bin scale.
   alignas(16) float scale[4];
   _mm_store_ps(scale, map.scale);
@@ -221,7 +299,19 @@ BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_c
   return best;
 }
 
-std::size_t partition_binned(std::span<PrimRef> refs, const BinnedSplit& split, std::uint32_t bin_count) {
+}  // namespace
+
+BinnedSplit find_binned_split(std::span<const PrimRef> refs, std::uint32_t bin_count, int block_shift) {
+  return find_split(refs, centroid_box_of(refs), bin_count, block_shift);
+}
+
+namespace {
+
+/// Partitions refs by `split` (Hoare's scheme) and returns the size of the left side; with Centroids, also the
+/// bounds of each side's doubled centroids, so the children need no pass of their own to find them.
+template <bool Centroids>
+std::size_t partition_refs(std::span<PrimRef> refs, const BinnedSplit& split, std::uint32_t bin_count,
+                           CentroidBox* left_box, CentroidBox* right_box) {
   // Scalar SSE arithmetic, operation for operation the lane of BinMap::bins_of() for this axis: the same bins.
   const int a = split.axis;
   const float lo = split.centroid_lo;
@@ -233,17 +323,40 @@ std::size_t partition_binned(std::span<PrimRef> refs, const BinnedSplit& split, 
     f = f < last ? f : last;  // as _mm_min_ps(f, last)
     return static_cast<std::uint32_t>(static_cast<std::int32_t>(f)) <= split.bin;
   };
+  CentroidBox lbox, rbox;
   std::size_t left = 0;
   std::size_t right = refs.size();
   for (;;) {
-    while (left < right && goes_left(refs[left])) ++left;
-    while (left < right && !goes_left(refs[right - 1])) --right;
+    while (left < right && goes_left(refs[left])) {
+      if constexpr (Centroids) lbox.extend(doubled_centroid(refs[left]));
+      ++left;
+    }
+    while (left < right && !goes_left(refs[right - 1])) {
+      if constexpr (Centroids) rbox.extend(doubled_centroid(refs[right - 1]));
+      --right;
+    }
     if (left >= right) break;
+    // refs[left] goes right and refs[right - 1] left: swapped, each is on its side.
+    if constexpr (Centroids) {
+      rbox.extend(doubled_centroid(refs[left]));
+      lbox.extend(doubled_centroid(refs[right - 1]));
+    }
     std::swap(refs[left], refs[right - 1]);
     ++left;
     --right;
   }
+  if constexpr (Centroids) {
+    *left_box = lbox;
+    *right_box = rbox;
+    left_box->known = right_box->known = true;
+  }
   return left;
+}
+
+}  // namespace
+
+std::size_t partition_binned(std::span<PrimRef> refs, const BinnedSplit& split, std::uint32_t bin_count) {
+  return partition_refs<false>(refs, split, bin_count, nullptr, nullptr);
 }
 
 BuildTree build_binned_sah(PrimRefs refs, const BinnedSahOptions& config) {
@@ -261,16 +374,22 @@ BuildTree build_binned_sah(PrimRefs refs, const BinnedSahOptions& config) {
   const std::size_t always_leaf = config.costs.intersection <= config.costs.traversal
                                       ? std::min<std::size_t>(config.max_leaf_size, config.block_size)
                                       : 0;
-  return build_top_down(std::move(refs), limits, [&](std::uint32_t, std::span<PrimRef> node_refs) -> std::size_t {
-    if (node_refs.size() <= always_leaf) return 0;
-    const BinnedSplit split = find_binned_split(node_refs, config.bin_count, block_shift);
-    if (split.axis < 0) return 0;
-    const float area = merge(split.left, split.right).surface_area();
-    if (sah_prefers_leaf(node_refs.size(), area, split.cost, config.max_leaf_size, config.costs, block_shift)) {
-      return 0;
-    }
-    return partition_binned(node_refs, split, config.bin_count);
-  });
+  // Each split finds its children's centroid bounds while partitioning (the hint), so a node's references are read
+  // twice (binning, partitioning) rather than three times.
+  return build_top_down_hinted<CentroidBox>(
+      std::move(refs), limits,
+      [&](std::uint32_t, std::span<PrimRef> node_refs, const CentroidBox& hint, CentroidBox& left_hint,
+          CentroidBox& right_hint) -> std::size_t {
+        if (node_refs.size() <= always_leaf) return 0;
+        const BinnedSplit split =
+            find_split(node_refs, hint.known ? hint : centroid_box_of(node_refs), config.bin_count, block_shift);
+        if (split.axis < 0) return 0;
+        const float area = merge(split.left, split.right).surface_area();
+        if (sah_prefers_leaf(node_refs.size(), area, split.cost, config.max_leaf_size, config.costs, block_shift)) {
+          return 0;
+        }
+        return partition_refs<true>(node_refs, split, config.bin_count, &left_hint, &right_hint);
+      });
 }
 
 }  // namespace rayaccel

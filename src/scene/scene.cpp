@@ -2,6 +2,10 @@
 // triangles come from an owned mesh or from the caller's buffers.
 #include "rayaccel/scene/scene.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -36,6 +40,17 @@ bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return true;
 }
 
+/// Calls derive(id) for every id in [first, last) on the threads TBB has (the scene's preparation, which Embree's
+/// build does in parallel too): each call writes only its own primitive's entries.
+template <class Derive>
+void derive_all(std::size_t first, std::size_t last, Derive&& derive) {
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(static_cast<std::uint32_t>(first),
+                                                      static_cast<std::uint32_t>(last), 4096),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t id = range.begin(); id != range.end(); ++id) derive(id);
+                    });
+}
+
 }  // namespace
 
 Scene Scene::from_mesh(TriangleMesh mesh, std::string name) {
@@ -54,7 +69,7 @@ Scene Scene::from_mesh(TriangleMesh mesh, std::string name) {
   s.mesh_ = std::move(mesh);
   s.triangle_vertices_.resize(s.mesh_.triangles.size());
   s.prim_bounds_.resize(s.mesh_.triangles.size());
-  for (std::uint32_t i = 0; i < s.mesh_.triangles.size(); ++i) s.derive_triangle(i);
+  derive_all(0, s.mesh_.triangles.size(), [&](std::uint32_t i) { s.derive_triangle(i); });
   s.finish_bounds();
   return s;
 }
@@ -97,7 +112,7 @@ Scene Scene::from_buffers(const MeshBuffers& buffers, std::string name) {
     }
   }
   s.prim_bounds_.resize(buffers.triangle_count);
-  for (std::uint32_t i = 0; i < buffers.triangle_count; ++i) s.derive_triangle(i);
+  derive_all(0, buffers.triangle_count, [&](std::uint32_t i) { s.derive_triangle(i); });
   s.finish_bounds();
   return s;
 }
@@ -154,22 +169,38 @@ void Scene::derive_triangle(std::uint32_t id) {
 }
 
 void Scene::finish_bounds() {
-  bounds_ = AABB::empty();
-  invalid_count_ = 0;
-  degenerate_count_ = 0;
-  for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
-    if (!prim_bounds_[i].is_empty()) {
-      bounds_.extend(prim_bounds_[i]);
-      continue;
-    }
-    // Excluded: a degenerate triangle has finite vertices in the mesh; an invalid primitive does not.
-    bool degenerate = false;
-    if (kind_ == PrimitiveKind::triangles) {
-      const auto [a, b, c] = source_triangle(i);
-      degenerate = is_finite(a) && is_finite(b) && is_finite(c);
-    }
-    ++(degenerate ? degenerate_count_ : invalid_count_);
-  }
+  struct Totals {
+    AABB bounds;
+    std::uint32_t invalid = 0, degenerate = 0;
+  };
+  // Min, max and counts: the same totals in any order, so with any number of threads.
+  const Totals totals = tbb::parallel_reduce(
+      tbb::blocked_range<std::uint32_t>(0, primitive_count(), 8192), Totals{},
+      [&](const tbb::blocked_range<std::uint32_t>& range, Totals t) {
+        for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+          if (!prim_bounds_[i].is_empty()) {
+            t.bounds.extend(prim_bounds_[i]);
+            continue;
+          }
+          // Excluded: a degenerate triangle has finite vertices in the mesh; an invalid primitive does not.
+          bool degenerate = false;
+          if (kind_ == PrimitiveKind::triangles) {
+            const auto [a, b, c] = source_triangle(i);
+            degenerate = is_finite(a) && is_finite(b) && is_finite(c);
+          }
+          ++(degenerate ? t.degenerate : t.invalid);
+        }
+        return t;
+      },
+      [](Totals a, const Totals& b) {
+        a.bounds.extend(b.bounds);
+        a.invalid += b.invalid;
+        a.degenerate += b.degenerate;
+        return a;
+      });
+  bounds_ = totals.bounds;
+  invalid_count_ = totals.invalid;
+  degenerate_count_ = totals.degenerate;
 }
 
 PrimRefs Scene::build_references(std::size_t extra_capacity) const {
@@ -204,13 +235,13 @@ void Scene::set_vertices(std::span<const Vec3> vertices) {
                 std::to_string(mesh_.vertices.size()));
   }
   mesh_.vertices.assign(vertices.begin(), vertices.end());
-  for (std::uint32_t i = 0; i < mesh_.triangles.size(); ++i) derive_triangle(i);
+  derive_all(0, mesh_.triangles.size(), [&](std::uint32_t i) { derive_triangle(i); });
   finish_bounds();
 }
 
 void Scene::buffers_changed() {
   if (!borrowed_) throw Error("buffers_changed: the scene owns its mesh; use set_vertices()");
-  for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) derive_triangle(i);
+  derive_all(0, prim_bounds_.size(), [&](std::uint32_t i) { derive_triangle(i); });
   finish_bounds();
 }
 
@@ -232,7 +263,7 @@ std::uint32_t Scene::append_triangles(std::span<const Vec3> vertices,
   mesh_.triangles.insert(mesh_.triangles.end(), tris.begin(), tris.end());
   triangle_vertices_.resize(mesh_.triangles.size());
   prim_bounds_.resize(mesh_.triangles.size());
-  for (auto i = first_id; i < mesh_.triangles.size(); ++i) derive_triangle(i);
+  derive_all(first_id, mesh_.triangles.size(), [&](std::uint32_t i) { derive_triangle(i); });
   finish_bounds();
   return first_id;
 }

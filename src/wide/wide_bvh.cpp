@@ -60,6 +60,11 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   } else {
     nodes4_.reserve(interior);
   }
+  if (config_.collapse == WideCollapse::sah && !tree.nodes.empty()) {
+    collapse_plan_.resize(tree.nodes.size());
+    float root_costs[8];
+    plan_collapse(tree, 0, root_costs);
+  }
   if (tree.nodes.empty()) {
     root_ = kEmptyChild;
   } else {
@@ -68,12 +73,37 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   blocks_.resize(block_count_);  // uninitialized: fill_leaves() writes every lane of every block, in parallel
   fill_leaves();
   binary_bounds_ = {};
+  collapse_plan_ = {};
   pending_leaves_ = {};
   pending_ids_ = {};
   if (depth_ > kBvhMaxDepth) {
     throw Error("wide BVH: tree depth " + std::to_string(depth_) + " exceeds the traversal stack bound");
   }
 }
+
+namespace {
+
+/// SAH cost of a wide tree relative to its root box's area: `traversal` per node visit, `intersection` per leaf
+/// block, as the binary build costs its tree (the figure collapse=sah minimises, up to repeated pieces).
+template <int W>
+double wide_sah_cost(const NodeArray<W>& nodes, std::uint32_t root, const SahCosts& costs) {
+  if (nodes.empty() || root == kEmptyChild || (root & kLeafBit) != 0) return 0.0;
+  AABB root_box;
+  for (int lane = 0; lane < W; ++lane) root_box.extend(child_bounds(nodes[root], lane));
+  double total = double(costs.traversal) * root_box.surface_area();
+  for (const Node<W>& node : nodes) {
+    for (int lane = 0; lane < W; ++lane) {
+      const std::uint32_t ref = node.child[lane];
+      if (ref == kEmptyChild) continue;
+      const double area = child_bounds(node, lane).surface_area();
+      total += (ref & kLeafBit) ? area * costs.intersection * leaf_block_count(ref) : area * costs.traversal;
+    }
+  }
+  const double root_area = root_box.surface_area();
+  return root_area > 0.0 ? total / root_area : 0.0;
+}
+
+}  // namespace
 
 std::size_t WideBvh::memory_bytes() const {
   return nodes4_.size() * sizeof(Node<4>) + nodes8_.size() * sizeof(Node<8>) + blocks_.size() * sizeof(Triangle4);
@@ -93,7 +123,9 @@ std::vector<BuildStatistic> WideBvh::build_statistics() const {
           {"references", double(references_)},
           {"presplit_triangles", double(split_triangles_)},
           {"presplit_potential", presplit_potential_},
-          {"leaf_repeats_dropped", double(dropped_repeats_)}};
+          {"leaf_repeats_dropped", double(dropped_repeats_)},
+          {"sah_cost", width_ == 8 ? wide_sah_cost(nodes8_, root_, config_.binary.costs)
+                                   : wide_sah_cost(nodes4_, root_, config_.binary.costs)}};
 }
 
 }  // namespace rayaccel::wide

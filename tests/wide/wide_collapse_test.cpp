@@ -38,6 +38,31 @@ TEST_P(CollapseThreads, OneThreadAndSeveralBuildTheSameTree) {
 
 INSTANTIATE_TEST_SUITE_P(Widths, CollapseThreads, ::testing::Values(4, 8));
 
+class CollapseSah : public ::testing::TestWithParam<int> {};
+
+TEST_P(CollapseSah, CostsNoMoreThanTheAreaCollapseAndAnswersTheSame) {
+  // Without pre-splitting every leaf's blocks are those the plan counts, so the plan's optimum is the tree's cost.
+  for (const char* name : {"default", "soup"}) {
+    const Scene scene = make_builtin_scene(name);
+    WideBvhOptions config;
+    config.width = GetParam();
+    config.presplit = 0.0f;
+    WideBvh area(config);
+    config.collapse = WideCollapse::sah;
+    WideBvh sah(config);
+    area.build(scene);
+    sah.build(scene);
+    EXPECT_TRUE(sah.validate().empty());
+    const double area_cost = statistics(area)["sah_cost"], sah_cost = statistics(sah)["sah_cost"];
+    EXPECT_GT(sah_cost, 1.0) << name;
+    EXPECT_LE(sah_cost, area_cost * (1.0 + 1e-5)) << name;
+    EXPECT_EQ(statistics(sah)["references"], statistics(area)["references"]) << name;
+    EXPECT_GT(expect_same_answers(scene, area, sah, 3000, 7), 300) << name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Widths, CollapseSah, ::testing::Values(4, 8));
+
 /// A two-leaf tree over the default scene's first two triangles, to be broken by the tests below.
 BuildTree two_leaf_tree(const Scene& scene) {
   BuildTree tree;

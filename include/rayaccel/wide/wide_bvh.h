@@ -41,6 +41,12 @@ inline constexpr int kStackSize = 7 * kBvhMaxDepth + 8;
 /// cover both).
 enum class WideIsa { best, avx2 };
 
+/// How the binary tree's nodes are gathered into wide nodes (wide_collapse.cpp).
+enum class WideCollapse {
+  area,  ///< open the child of largest surface area until W children (Wald, Benthin, Boulos 2008)
+  sah,   ///< the least SAH cost over every way of gathering (Ylitie, Karras, Laine 2017's dynamic programme)
+};
+
 struct WideBvhOptions {
   /// Children per node: 4 (SSE2), 8 (AVX2), or 0 for the widest this CPU runs.
   int width = 0;
@@ -62,6 +68,8 @@ struct WideBvhOptions {
   /// on the conference room; 4 lies between the conference room and Sponza (potentials and runs: BENCHMARKS.md,
   /// "Option choices").
   float presplit_threshold = 4.0f;
+  /// How the binary tree is gathered into wide nodes.
+  WideCollapse collapse = WideCollapse::area;
 };
 
 template <int W>
@@ -148,6 +156,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <int W>
   std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, NodeArray<W>& nodes);
   std::uint32_t emit_leaf(const BuildTree& tree, std::uint32_t binary_node);
+  /// collapse=sah: fills collapse_plan_ for the subtree of `binary_node` and slot_cost[j - 1], its least SAH cost
+  /// when it takes at most j child slots of a wide node, j = 1..width_.
+  void plan_collapse(const BuildTree& tree, std::uint32_t binary_node, float* slot_cost);
   /// Boxes of every binary node (children after their parent, as every builder stores them).
   static HugePageVector<AABB> binary_node_bounds(const BuildTree& tree);
   struct LeafIdCounts {
@@ -216,6 +227,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   std::uint32_t block_count_ = 0;  ///< build-time only: blocks reserved by emit_leaf, allocated after emit
   std::uint32_t root_ = kEmptyChild;
   HugePageVector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
+  /// Build-time only, collapse=sah: per binary node, 4 bits for each j = 2..8: the slots its left child's subtree
+  /// takes when the node is opened into j slots, 0 when it takes one slot itself.
+  HugePageVector<std::uint32_t> collapse_plan_;
   struct PendingLeaf {
     std::uint32_t first_id, id_count;  ///< the leaf's primitives: pending_ids_[first_id .. first_id + id_count)
     std::uint32_t first_block;
