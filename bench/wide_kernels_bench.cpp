@@ -22,9 +22,9 @@ using simd::Avx8;
 #endif
 using simd::Sse4;
 using simd::cpu_has_avx2;
-using BoxKernel4 = BoxKernel<Sse4>;
+using BoxKernel4 = simd::BoxKernel<Sse4>;
 #if RAYACCEL_AVX_KERNELS
-using BoxKernel8 = BoxKernel<Avx8>;
+using BoxKernel8 = simd::BoxKernel<Avx8>;
 #endif
 
 constexpr int kRays = 256;
@@ -60,9 +60,9 @@ std::vector<Node<W>> make_nodes() {
   return nodes;
 }
 
-std::vector<Triangle4> make_blocks() {
+std::vector<simd::Triangle4> make_blocks() {
   std::mt19937 rng(3);
-  std::vector<Triangle4> blocks(kItems);
+  std::vector<simd::Triangle4> blocks(kItems);
   std::uint32_t id = 0;
   for (auto& b : blocks) {
     for (int lane = 0; lane < 4; ++lane) {
@@ -119,7 +119,7 @@ void BM_TriangleLanes4(benchmark::State& state) {
   std::size_t i = 0;
   for (auto _ : state) {
     const PreparedRay& r = rays[i++ % kRays];
-    const TrianglePacket<Sse4> p(r);
+    const simd::TrianglePacket<Sse4> p(r);
     Hit hit = Hit::begin(r);
     for (const auto& b : blocks) intersect_triangles4(p, r, b, hit);
     benchmark::DoNotOptimize(hit);
@@ -130,11 +130,11 @@ BENCHMARK(BM_TriangleLanes4);
 
 #if RAYACCEL_AVX_KERNELS
 RAYACCEL_TARGET_AVX2 __attribute__((flatten)) Hit triangles8_pass(const PreparedRay& r,
-                                                               const std::vector<Triangle4>& blocks) {
-  const TrianglePacket<Avx8> p(r);
+                                                               const std::vector<simd::Triangle4>& blocks) {
+  const simd::TrianglePacket<Avx8> p(r);
   Hit hit = Hit::begin(r);
   for (std::size_t b = 0; b + 1 < blocks.size(); b += 2) {
-    const Triangle4* pair[2] = {&blocks[b], &blocks[b + 1]};
+    const simd::Triangle4* pair[2] = {&blocks[b], &blocks[b + 1]};
     intersect_triangle_lanes<Avx8>(p, r, pair, hit);
   }
   return hit;
@@ -166,7 +166,7 @@ std::vector<Ray> make_coherent_rays() {
 }
 
 RAYACCEL_TARGET_AVX2 __attribute__((flatten)) int triangle_rays_pass(const Ray* rays,
-                                                                 const std::vector<Triangle4>& blocks) {
+                                                                 const std::vector<simd::Triangle4>& blocks) {
   alignas(32) float lane[9][8];
   const PreparedRay first(rays[0]);
   const int axes[3] = {first.kx, first.ky, first.kz};
@@ -182,7 +182,7 @@ RAYACCEL_TARGET_AVX2 __attribute__((flatten)) int triangle_rays_pass(const Ray* 
     lane[8][i] = shear_error(r.shear_y);
     hits[i] = Hit::begin(r);
   }
-  TrianglePacket<Avx8> p;
+  simd::TrianglePacket<Avx8> p;
   for (int a = 0; a < 3; ++a) p.origin_k[a] = Avx8::load(lane[a]);
   p.shear_x = Avx8::load(lane[3]);
   p.shear_y = Avx8::load(lane[4]);

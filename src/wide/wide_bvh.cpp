@@ -34,12 +34,7 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   presplit_potential_ = 0.0;  // build() sets it; a tree built elsewhere was not chosen by it
   dropped_repeats_ = 0;
   triangles_ = scene.kind() == PrimitiveKind::triangles;
-  // Eight-wide nodes need the eight-lane kernels: a CPU without AVX2 (or a build without them, see simd/isa.h) gets
-  // four-wide nodes with the same tree shape rules, also for width=8.
-  const bool eight_lanes = simd::best_isa(simd::Isa::avx2) != simd::Isa::sse2;
-  width_ = (config_.width == 8 || config_.width == 0) && eight_lanes ? 8 : 4;
-  isa_ = width_ == 8 ? simd::best_isa(config_.isa == WideIsa::avx2 ? simd::Isa::avx2 : simd::Isa::avx512)
-                     : simd::Isa::sse2;
+  select_kernels(config_.width);  // a CPU without AVX2 gets four-wide nodes, also for width=8
   nodes4_.clear();
   nodes8_.clear();
   blocks_.clear();
@@ -81,6 +76,15 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   }
 }
 
+bool WideBvh::runs_eight_wide() { return simd::best_isa(simd::Isa::avx2) != simd::Isa::sse2; }
+
+void WideBvh::select_kernels(int width) {
+  width_ = (width == 8 || width == 0) && runs_eight_wide() ? 8 : 4;
+  isa_ = width_ == 8 ? simd::best_isa(config_.isa == WideIsa::avx2 ? simd::Isa::avx2 : simd::Isa::avx512)
+                     : simd::Isa::sse2;
+}
+
+
 namespace {
 
 /// SAH cost of a wide tree relative to its root box's area: `traversal` per node visit, `intersection` per leaf
@@ -106,7 +110,7 @@ double wide_sah_cost(const NodeArray<W>& nodes, std::uint32_t root, const SahCos
 }  // namespace
 
 std::size_t WideBvh::memory_bytes() const {
-  return nodes4_.size() * sizeof(Node<4>) + nodes8_.size() * sizeof(Node<8>) + blocks_.size() * sizeof(Triangle4);
+  return nodes4_.size() * sizeof(Node<4>) + nodes8_.size() * sizeof(Node<8>) + blocks_.size() * sizeof(simd::Triangle4);
 }
 
 std::vector<BuildStatistic> WideBvh::build_statistics() const {

@@ -36,7 +36,7 @@ std::string wide_bvh_file_spec(std::span<const std::byte> head) {
 }
 
 void WideBvh::save(const std::filesystem::path& path) const {
-  static_assert(std::is_trivially_copyable_v<Node<8>> && std::is_trivially_copyable_v<Triangle4>,
+  static_assert(std::is_trivially_copyable_v<Node<8>> && std::is_trivially_copyable_v<simd::Triangle4>,
                 "nodes and blocks are written as raw bytes");
   if (!scene_) throw Error(std::string(kWhat) + " '" + path.string() + "': nothing was built to save");
   WideBvhFileHeader h{};
@@ -65,7 +65,7 @@ void WideBvh::save(const std::filesystem::path& path) const {
   } else {
     append(nodes4_.data(), nodes4_.size() * sizeof(Node<4>));
   }
-  append(blocks_.data(), blocks_.size() * sizeof(Triangle4));
+  append(blocks_.data(), blocks_.size() * sizeof(simd::Triangle4));
   const std::uint64_t sum = bvh_checksum(bytes);
   append(&sum, sizeof sum);
   write_bvh_file(path, bytes, kWhat);
@@ -88,8 +88,7 @@ void WideBvh::load(const std::filesystem::path& path, const Scene& scene) {
                 std::to_string(kWideBvhFileVersion) + ")");
   }
   if (h.width != 4 && h.width != 8) throw Error(where + "unknown node width " + std::to_string(h.width));
-  const bool eight_lanes = simd::best_isa(simd::Isa::avx2) != simd::Isa::sse2;
-  if (h.width == 8 && !eight_lanes) {
+  if (h.width == 8 && !runs_eight_wide()) {
     throw Error(where + "holds eight-wide nodes, which need AVX2; this CPU (or build) runs only four-wide ones "
                 "(rebuild here, or save with width=4)");
   }
@@ -102,13 +101,11 @@ void WideBvh::load(const std::filesystem::path& path, const Scene& scene) {
   }
   if (h.flags > (kSpatialSplitsFlag | kTrianglesFlag)) throw Error(where + "unknown flags in the header");
   const std::size_t expected = sizeof h + std::size_t{h.node_count} * node_bytes(h.width) +
-                               std::size_t{h.block_count} * sizeof(Triangle4) + sizeof(std::uint64_t);
+                               std::size_t{h.block_count} * sizeof(simd::Triangle4) + sizeof(std::uint64_t);
   check_size_and_checksum(bytes, expected, where);
   // The file is sound: take it over, then check the tree itself (a failure leaves this object empty but usable).
   scene_ = &scene;
-  width_ = static_cast<int>(h.width);
-  isa_ = width_ == 8 ? simd::best_isa(config_.isa == WideIsa::avx2 ? simd::Isa::avx2 : simd::Isa::avx512)
-                     : simd::Isa::sse2;
+  select_kernels(static_cast<int>(h.width));  // the width the file holds: this CPU runs it (checked above)
   triangles_ = triangles;
   spatial_splits_ = (h.flags & kSpatialSplitsFlag) != 0;
   root_ = h.root;

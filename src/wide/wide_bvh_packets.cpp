@@ -17,7 +17,6 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
-#include <type_traits>
 #include <utility>
 
 #include "rayaccel/wide/wide_bvh.h"
@@ -27,10 +26,9 @@ namespace rayaccel::wide {
 #if RAYACCEL_AVX_KERNELS
 namespace {
 
-// One ray per lane of the eight-wide kernels' lane set, and one lane per child of the node those kernels test: the
-// packet size, the lane count and the node width are the same number.
-using PacketLanesSet = simd::Avx8;
-constexpr int kPacketSize = PacketLanesSet::kWidth;
+// One ray per lane of the eight-wide kernels' lane sets (Avx8, Avx8Masked), and one lane per child of the node those
+// kernels test: the packet size, the lane count and the node width are the same number.
+constexpr int kPacketSize = simd::Avx8::kWidth;
 static_assert(kPacketSize == static_cast<int>(detail::kPacketSize), "a packet of the batch calls fills the lanes");
 static_assert(sizeof(Node<kPacketSize>::child) / sizeof(std::uint32_t) == kPacketSize, "one child a lane");
 
@@ -62,7 +60,7 @@ struct PacketLanes {
   int active = 0;                       ///< lanes with a ray that is not void
   bool fast = false;
   int axes[3] = {0, 1, 2};  ///< kx, ky, kz shared by the active rays (fast path only)
-  TrianglePacket<S> triangle;  ///< origin in the shared axes, shear and t_min per lane (fast path only)
+  simd::TrianglePacket<S> triangle;  ///< origin in the shared axes, shear and t_min per lane (fast path only)
 
   RAYACCEL_LANE_INLINE explicit PacketLanes(const Ray* rays) {
     static_assert(sizeof(Ray) == 8 * sizeof(float), "Ray is the record ox oy oz t_min dx dy dz t_max");
@@ -154,7 +152,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
     // packets): ray by ray, with the single-ray traversal.
     const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays, std::make_index_sequence<8>{});
     for (int i = 0; i < kPacketSize; ++i) {
-      if (lanes_in.active >> i & 1) traverse<BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], none);
+      if (lanes_in.active >> i & 1) traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], none);
     }
   } else if (lanes_in.active) {
     // With the same direction signs in every active ray (coherent packets almost always), each axis's near plane is
@@ -208,7 +206,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
         int found = 0;
         const std::uint32_t end = leaf_first_block(ref) + leaf_block_count(ref);
         for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
-          const Triangle4& block = blocks_[b];
+          const simd::Triangle4& block = blocks_[b];
           for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
             const int testing = AnyHit ? leaf_rays & ~found : leaf_rays;
             found |= intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j, hit.data(),
@@ -366,7 +364,7 @@ void for_each_packet(std::span<const Ray> rays, simd::Isa isa, const Packet& pac
     for (std::size_t first = begin; first < end; first += detail::kPacketSize) {
       const int count = static_cast<int>(std::min(detail::kPacketSize, end - first));
       simd::run_with_lanes(isa, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
-        if constexpr (std::is_same_v<Lanes, PacketLanesSet>) packet.template operator()<Lanes>(first, count);
+        if constexpr (Lanes::kWidth == kPacketSize) packet.template operator()<Lanes>(first, count);
       });
     }
   });

@@ -12,7 +12,7 @@ namespace rayaccel::wide {
 namespace {
 /// Calls query.test() for the triangle in lane `lane` of `block`.
 template <class Query>
-void test_lane(const Triangle4& block, int lane, Query& query) {
+void test_lane(const simd::Triangle4& block, int lane, Query& query) {
   Vec3 v[3];
   for (int k = 0; k < 3; ++k) v[k] = Vec3{block.vertex[k][0][lane], block.vertex[k][1][lane], block.vertex[k][2][lane]};
   query.test(block.prim_id[lane], v[0], v[1], v[2]);
@@ -51,7 +51,7 @@ RAYACCEL_LANE_INLINE void WideBvh::find_crossings_in(const NodeArray<Kernel::kWi
       const std::uint32_t first = leaf_first_block(ref), end = first + leaf_block_count(ref);
       for (std::uint32_t b = first; b < end; b += kBlocksPerTest) {
         const bool odd = b + kBlocksPerTest > end;  // eight lanes over one last block: paired with itself
-        const Triangle4* group[2] = {&blocks_[b], &blocks_[odd ? b : b + kBlocksPerTest - 1]};
+        const simd::Triangle4* group[2] = {&blocks_[b], &blocks_[odd ? b : b + kBlocksPerTest - 1]};
         int mask = simd::candidate_triangle_lanes<Lanes>(triangle_packet, ray, group, t_far_hit);
         if (odd) mask &= 0xF;
         for (; mask; mask &= mask - 1) {
@@ -107,9 +107,9 @@ void WideBvh::find_crossings(HitList& list) const {
   // The children's boxes tested at once with the SIMD box kernel of the tree's width, as in trace().
   simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
     if constexpr (Lanes::kWidth == 8) {
-      find_crossings_in<BoxKernel<Lanes>>(nodes8_, list);
+      find_crossings_in<simd::BoxKernel<Lanes>>(nodes8_, list);
     } else {
-      find_crossings_in<BoxKernel<Lanes>>(nodes4_, list);
+      find_crossings_in<simd::BoxKernel<Lanes>>(nodes4_, list);
     }
   });
 }

@@ -59,7 +59,7 @@ void WideBvh::fill_leaves() {
                         const std::uint32_t* ids = pending_ids_.data() + leaf.first_id;
                         const std::size_t count = leaf.id_count;
                         for (std::size_t i = 0; i < (count + 3) / 4 * 4; ++i) {
-                          Triangle4& block = blocks_[leaf.first_block + i / 4];
+                          simd::Triangle4& block = blocks_[leaf.first_block + i / 4];
                           const int lane = static_cast<int>(i % 4);
                           if (i < count && triangles_) {
                             simd::set_block_lane(block, lane, *scene_, ids[i]);

@@ -16,7 +16,7 @@ std::vector<std::uint32_t> WideBvh::leaf_prim_ids() const {
   std::vector<std::uint32_t> ids;
   ids.reserve(blocks_.size() * 4);
   simd::for_each_block_id(blocks_.data(), static_cast<std::uint32_t>(blocks_.size()),
-                          [&](const Triangle4& block, int lane) { ids.push_back(block.prim_id[lane]); });
+                          [&](const simd::Triangle4& block, int lane) { ids.push_back(block.prim_id[lane]); });
   return ids;
 }
 
@@ -60,7 +60,9 @@ void WideBvh::refit() {
   // The range check reads the blocks in place (no gathered copy of the ids: update() has just made one).
   std::uint32_t max_id = 0;
   simd::for_each_block_id(blocks_.data(), static_cast<std::uint32_t>(blocks_.size()),
-                          [&](const Triangle4& block, int lane) { max_id = std::max(max_id, block.prim_id[lane]); });
+                          [&](const simd::Triangle4& block, int lane) {
+                            max_id = std::max(max_id, block.prim_id[lane]);
+                          });
   if (!blocks_.empty() && max_id >= scene_->primitive_count()) {
     throw Error("bvh_wide refit: the tree refers to primitive " + std::to_string(max_id) + ", but the scene has " +
                 std::to_string(scene_->primitive_count()) + "; rebuild instead");

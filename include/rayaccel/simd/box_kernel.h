@@ -108,6 +108,17 @@ struct BoxKernel {
   /// `node` is any node type with SoA child boxes `float bounds[3][2][kWidth]` (wide/wide_node.h).
   template <class Node>
   RAYACCEL_LANE_INLINE static int intersect(const Packet& ray, const Node& node, float t_far_scalar, float* t_entry) {
+    F t_near;
+    const unsigned mask = intersect_lanes(ray, node, t_far_scalar, t_near);
+    S::store(t_entry, t_near);
+    return static_cast<int>(mask);
+  }
+
+  /// intersect() with the entry distances left in lanes (the AVX-512 traversal sorts them there); the mask comes from
+  /// a mask-register compare where the lane set has one.
+  template <class Node>
+  RAYACCEL_LANE_INLINE static unsigned intersect_lanes(const Packet& ray, const Node& node, float t_far_scalar,
+                                                       F& t_entry) {
     static_assert(sizeof(node.bounds[0][0]) == kWidth * sizeof(float), "one child box a lane");
     F t_near = ray.t_min;
     F t_far = S::set1(t_far_scalar);
@@ -140,8 +151,12 @@ struct BoxKernel {
       widen(t_near, kSlabWidenDown, kSlabWidenUp);
       widen(t_far, kSlabWidenUp, kSlabWidenDown);
     }
-    S::store(t_entry, t_near);
-    return S::movemask(S::le(t_near, t_far));
+    t_entry = t_near;
+    if constexpr (requires { requires S::kMaskRegisters; }) {
+      return S::le_mask(t_near, t_far);
+    } else {
+      return static_cast<unsigned>(S::movemask(S::le(t_near, t_far)));
+    }
   }
 };
 RAYACCEL_LANE_CODE_END

@@ -8,6 +8,7 @@
 #include "rayaccel/simd/lanes_sse.h"
 #if RAYACCEL_AVX_KERNELS
 #include "rayaccel/simd/lanes_avx2.h"
+#include "rayaccel/simd/lanes_avx512.h"
 #endif
 
 namespace rayaccel::simd {
@@ -25,15 +26,16 @@ RAYACCEL_TARGET_AVX2 __attribute__((flatten)) void run_avx2(const Body& body) {
 }
 template <class Body>
 RAYACCEL_TARGET_AVX512 __attribute__((flatten)) void run_avx512(const Body& body) {
-  body.template operator()<Avx8>();
+  body.template operator()<Avx8Masked>();
 }
 #endif
 }  // namespace detail
 
-/// Runs body.operator()<Lanes>() with Lanes = Sse4 for Isa::sse2 and Avx8 otherwise, compiled for `isa` (which the
-/// caller chose with best_isa(Cap), so this CPU runs it; without RAYACCEL_AVX_KERNELS that is always sse2). `Cap` is
-/// the widest instruction set the caller ever picks: entry points above it are not instantiated (the kd-tree and the
-/// grid cap at AVX2, so no AVX-512 copy of their traversal is compiled into every binary); an isa above Cap runs at Cap.
+/// Runs body.operator()<Lanes>() with Lanes = Sse4 for Isa::sse2, Avx8 for avx2 and Avx8Masked for avx512, compiled
+/// for `isa` (which the caller chose with best_isa(Cap), so this CPU runs it; without RAYACCEL_AVX_KERNELS that is
+/// always sse2). `Cap` is the widest instruction set the caller ever picks: entry points above it are not
+/// instantiated (the kd-tree and the grid cap at AVX2, so no AVX-512 copy of their traversal is compiled into every
+/// binary); an isa above Cap runs at Cap.
 template <Isa Cap = Isa::avx512, class Body>
 inline void run_with_lanes(Isa isa, const Body& body) {
 #if RAYACCEL_AVX_KERNELS

@@ -3,7 +3,7 @@
 // its kernels' instruction set here and runs them through simd/dispatch.h.
 #pragma once
 
-/// 1 when this build has the eight-lane AVX kernels (Avx8 and its AVX-512 build). Clang (checked with Clang 14)
+/// 1 when this build has the eight-lane AVX kernels (Avx8 and Avx8Masked). Clang (checked with Clang 14)
 /// rejects, as an ABI error rather than GCC's -Wpsabi note, every call that passes a 32-byte vector from the generic
 /// lane code (compiled for the default target) to Avx8's target("avx2") operations, even when the caller is always
 /// inlined into an AVX entry point. A Clang build therefore compiles the SSE kernels only: best_isa() answers sse2,
@@ -18,9 +18,9 @@
 namespace rayaccel::simd {
 
 /// Instruction set of the SIMD kernels, in increasing order. sse2: four lanes (every x86-64 CPU). avx2: eight
-/// lanes. avx512: the same eight-lane AVX2 kernels compiled for AVX-512 (F, VL, DQ, BW): identical 256-bit
-/// operations and results, EVEX-encoded, with 32 vector registers instead of 16, so per-ray constants stay in
-/// registers.
+/// lanes. avx512: eight lanes compiled for AVX-512 (F, VL, DQ, BW), 32 vector registers, with the lane set
+/// Avx8Masked (lanes_avx512.h): the AVX2 operations plus mask compares, compress and sorting, which the wide BVH's
+/// traversal uses; the same results as avx2.
 enum class Isa { sse2, avx2, avx512 };
 /// "sse2", "avx2" or "avx512".
 const char* to_string(Isa isa);

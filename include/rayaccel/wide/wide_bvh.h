@@ -1,12 +1,6 @@
-// Wide BVH (4 or 8 children per node) for triangle meshes: a binary SAH tree collapsed greedily by opening the child
-// of largest surface area (Wald, Benthin, Boulos 2008, "Getting rid of packets"; Dammertz et al. 2008, "Shallow
-// bounding volume hierarchies"), child boxes stored SoA so one SIMD test covers every child, and leaves of Triangle4
-// blocks tested four at a time with the watertight kernel (other primitive kinds: the same tree, leaves tested one by
-// one). Width 8 uses AVX2 and is chosen at run time only when the CPU has it (the same kernels compiled for AVX-512
-// where the CPU has that: EVEX encoding and 32 vector registers); width 4 uses SSE2, which every x86-64 CPU has.
-// Closest-hit traversal visits children near-first; any-hit stops at the first hit. With eight-wide nodes,
-// intersect_packets() and occluded_packets() trace eight coherent rays as one packet (Wald et al. 2001;
-// wide_bvh_packets.cpp).
+// Wide BVH (4 or 8 children per node, child boxes SoA, leaves of Triangle4 blocks): a binary SAH tree collapsed
+// greedily (Wald, Benthin, Boulos 2008; Dammertz et al. 2008), traced with SSE2, AVX2 or AVX-512 lanes chosen at run
+// time, closest hit near-first and any hit in lane order; eight-ray packets in wide_bvh_packets.cpp (Wald et al. 2001).
 #pragma once
 
 #include <cstdint>
@@ -23,22 +17,17 @@
 #include "rayaccel/simd/box_kernel.h"
 #include "rayaccel/simd/dispatch.h"
 #include "rayaccel/simd/triangle_blocks.h"
+#include "rayaccel/wide/child_push.h"
 #include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
 
-// The SIMD layer's kernels and blocks, under the names the wide BVH has always used.
-using simd::BlockMailbox;
-using simd::BoxKernel;
-using simd::Triangle4;
-using simd::TrianglePacket;
-
-/// Traversal pushes at most W-1 entries per level; collapsing never adds levels to the binary tree's kBvhMaxDepth.
+/// Traversal pushes at most W-1 entries per level; collapsing never adds levels to the binary tree's kBvhMaxDepth;
+/// the AVX-512 pushes write eight entries at a time (child_push.h), hence the 8 more.
 inline constexpr int kStackSize = 7 * kBvhMaxDepth + 8;
 
-/// Instruction set of the eight-wide traversal. best: the best this CPU runs (simd::best_isa: the AVX-512 build of
-/// the AVX2 kernels where the CPU has it, see simd/isa.h); avx2: the AVX2 build even on an AVX-512 CPU (so tests
-/// cover both).
+/// Instruction set of the eight-wide traversal. best: the best this CPU runs (simd::best_isa: AVX-512 where the CPU
+/// has it, see simd/isa.h); avx2: the AVX2 kernels even on an AVX-512 CPU (so tests cover both).
 enum class WideIsa { best, avx2 };
 
 /// How the binary tree's nodes are gathered into wide nodes (wide_collapse.cpp).
@@ -130,9 +119,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
     // Eight lanes (AVX2 or its AVX-512 build) test eight-wide nodes, four SSE2 lanes four-wide ones.
     simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
       if constexpr (Lanes::kWidth == 8) {
-        traverse<BoxKernel<Lanes>, AnyHit>(nodes8_, start, ray, hit, stats);
+        traverse<simd::BoxKernel<Lanes>, AnyHit>(nodes8_, start, ray, hit, stats);
       } else {
-        traverse<BoxKernel<Lanes>, AnyHit>(nodes4_, start, ray, hit, stats);
+        traverse<simd::BoxKernel<Lanes>, AnyHit>(nodes4_, start, ray, hit, stats);
       }
     });
   }
@@ -153,6 +142,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   }
 
  private:
+  /// True when this CPU and build run eight-wide nodes (the eight-lane kernels, simd/isa.h).
+  static bool runs_eight_wide();
+  /// Sets width_ and isa_ for nodes `width` wide (4 or 8; 0: the widest this CPU runs): eight-wide only where
+  /// runs_eight_wide(), else four-wide with the same tree shape rules; the instruction set config_.isa allows.
+  void select_kernels(int width);
   template <int W>
   std::uint32_t emit(const BuildTree& tree, std::uint32_t binary_node, int depth, NodeArray<W>& nodes);
   std::uint32_t emit_leaf(const BuildTree& tree, std::uint32_t binary_node);
@@ -194,7 +188,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// blocks) before it is visited, as Embree's traversal does: incoherent rays spend most of their time waiting for
   /// nodes, and the children pushed now are popped after the memory has had time to answer.
   template <int W>
-  RAYACCEL_LANE_INLINE static void prefetch_child(const Node<W>* nodes, const Triangle4* blocks, std::uint32_t ref) {
+  RAYACCEL_LANE_INLINE static void prefetch_child(const Node<W>* nodes, const simd::Triangle4* blocks,
+                                                  std::uint32_t ref) {
     const char* p = (ref & kLeafBit) ? reinterpret_cast<const char*>(blocks + leaf_first_block(ref))
                                      : reinterpret_cast<const char*>(nodes + ref);
     __builtin_prefetch(p);
@@ -206,9 +201,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
                                      const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
-  RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const Triangle4* blocks,
-                                           const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
-                                           Stats& stats) const;
+  RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const simd::Triangle4* blocks,
+                                           const simd::TrianglePacket<Lanes>& packet, const PreparedRay& ray,
+                                           Hit& hit, Stats& stats) const;
   /// The leaf test of scenes other than triangle meshes (blocks hold only ids: Scene::intersect one by one), kept out
   /// of line so the triangle traversal's loop holds no call that would take its registers.
   template <bool AnyHit, class Stats>
@@ -217,13 +212,14 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 
   WideBvhOptions config_;
   int width_ = 4;
-  simd::Isa isa_ = simd::Isa::sse2;  ///< width 8: avx2 or avx512 (the AVX-512 build of the kernels); width 4: sse2
+  simd::Isa isa_ = simd::Isa::sse2;  ///< width 8: avx2 or avx512; width 4: sse2
   const Scene* scene_ = nullptr;
   bool triangles_ = true;  ///< false: blocks hold only ids, tested through Scene::intersect
   // Large arrays on transparent huge pages where the system has them (fewer page faults and TLB misses).
   NodeArray<4> nodes4_;
   NodeArray<8> nodes8_;
-  std::vector<Triangle4, UninitializedHugePageAllocator<Triangle4>> blocks_;  ///< every lane written by fill_leaves
+  /// Every lane written by fill_leaves.
+  std::vector<simd::Triangle4, UninitializedHugePageAllocator<simd::Triangle4>> blocks_;
   std::uint32_t block_count_ = 0;  ///< build-time only: blocks reserved by emit_leaf, allocated after emit
   std::uint32_t root_ = kEmptyChild;
   HugePageVector<AABB> binary_bounds_;  ///< build-time only: box of each binary node
@@ -247,11 +243,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
 /// Tests a leaf's blocks (`blocks` is blocks_.data(), held by the traversal): two at a time when Lanes is eight wide
 /// (AVX2), one at a time with SSE otherwise.
 template <class Lanes, bool AnyHit, class Stats>
-RAYACCEL_LANE_INLINE bool WideBvh::intersect_leaf(std::uint32_t ref, const Triangle4* blocks,
-                                                  const TrianglePacket<Lanes>& packet, const PreparedRay& ray, Hit& hit,
-                                                  Stats& stats) const {
+RAYACCEL_LANE_INLINE bool WideBvh::intersect_leaf(std::uint32_t ref, const simd::Triangle4* blocks,
+                                                  const simd::TrianglePacket<Lanes>& packet, const PreparedRay& ray,
+                                                  Hit& hit, Stats& stats) const {
   if (!triangles_) [[unlikely]] return intersect_leaf_prims<AnyHit>(ref, ray, hit, stats);
-  BlockMailbox unused;  // no mailbox: a primitive is in one leaf, or once per leaf (pre-split pieces)
+  simd::BlockMailbox unused;  // no mailbox: a primitive is in one leaf, or once per leaf (pre-split pieces)
   return simd::intersect_block_run<Lanes, AnyHit, false>(packet, ray, blocks + leaf_first_block(ref),
                                                          leaf_block_count(ref), unused, hit, stats);
 }
@@ -279,9 +275,11 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
   // The arrays' addresses in locals: read through the vectors, they would be reloaded at every step, as the stores
   // to the stack and the hit might change them for all the compiler knows.
   const Node<W>* const node_at = nodes.data();
-  const Triangle4* const blocks = blocks_.data();
-  const TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
+  const simd::Triangle4* const blocks = blocks_.data();
+  const simd::TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
+  // AVX-512 lanes (simd::Avx8Masked) push the children met without a branch per child (child_push.h).
+  constexpr bool kMaskedPush = requires { requires Kernel::Lanes::kMaskRegisters; };
   std::uint32_t ref = start;
   if constexpr (AnyHit) {
     // Any hit: the far bound stays hit.t until the first hit ends the query, so nothing on the stack can be culled
@@ -296,9 +294,15 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
         if (intersect_leaf<typename Kernel::Lanes, true>(ref, blocks, triangle_packet, ray, hit, stats)) return;
       } else {
         const Node<W>& node = node_at[ref];
-        alignas(32) float entry[W];  // entry distances, which the box test writes and any-hit does not use
-        int mask = Kernel::intersect(box_packet, node, t_far, entry);
-        if (mask) {
+        typename Kernel::F entry;  // entry distances, which any-hit does not use
+        unsigned mask = Kernel::intersect_lanes(box_packet, node, t_far, entry);
+        if constexpr (kMaskedPush) {
+          if (mask) {
+            for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
+            ref = push_in_lane_order<typename Kernel::Lanes>(node, mask, pending, count);
+            continue;
+          }
+        } else if (mask) {
           ref = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
           prefetch_child(node_at, blocks, ref);
           for (mask &= mask - 1; mask; mask &= mask - 1) {
@@ -313,10 +317,7 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
     }
   } else {
     // Closest hit: children near-first, each stack entry with its entry distance, culled on pop by the closest hit.
-    struct Entry {
-      std::uint32_t ref;
-      float t_entry;
-    };
+    using Entry = StackEntry;
     Entry stack[kStackSize];
     int top = 0;
     for (;;) {
@@ -325,8 +326,10 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
         intersect_leaf<typename Kernel::Lanes, false>(ref, blocks, triangle_packet, ray, hit, stats);
       } else {
         const Node<W>& node = node_at[ref];
+        typename Kernel::F entry_lanes;
+        unsigned mask = Kernel::intersect_lanes(box_packet, node, hit.t, entry_lanes);
         alignas(32) float entry[W];
-        int mask = Kernel::intersect(box_packet, node, hit.t, entry);
+        Kernel::Lanes::store(entry, entry_lanes);
         if (mask) {
           // The common cases first (Wald et al. 2008 on wide-BVH traversal order): one child met is entered
           // without touching the stack; of two, the farther is pushed; only three or more are sorted.
@@ -347,6 +350,14 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
             ref = node.child[near];
             prefetch_child(node_at, blocks, ref);
             prefetch_child(node_at, blocks, node.child[far]);
+            continue;
+          }
+          if constexpr (kMaskedPush) {
+            for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
+            prefetch_child(node_at, blocks, node.child[first]);
+            prefetch_child(node_at, blocks, node.child[second]);
+            ref = push_sorted<typename Kernel::Lanes>(node, mask | 1u << first | 1u << second, entry_lanes, stack,
+                                                      top);
             continue;
           }
           // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
