@@ -4,6 +4,8 @@
 #include <string>
 
 #include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bv/capsule_volume.h"
+#include "rayaccel/bv/hull_volume.h"
 #include "rayaccel/bv/kdop_volume.h"
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
@@ -54,7 +56,8 @@ std::unique_ptr<GeneralizedRays> try_make(const Accelerator& accel, const Scene&
   std::unique_ptr<GeneralizedRays> out;
   (void)((out = try_bvh<AabbVolume>(accel, scene)) || (out = try_bvh<SphereVolume>(accel, scene)) ||
          (out = try_bvh<ObbVolume>(accel, scene)) || (out = try_bvh<Kdop14Volume>(accel, scene)) ||
-         (out = try_bvh<Kdop18Volume>(accel, scene)) || (out = try_bvh<Kdop26Volume>(accel, scene)));
+         (out = try_bvh<Kdop18Volume>(accel, scene)) || (out = try_bvh<Kdop26Volume>(accel, scene)) ||
+         (out = try_bvh<HullVolume>(accel, scene)) || (out = try_bvh<CapsuleVolume>(accel, scene)));
   return out;
 }
 

@@ -45,11 +45,15 @@ TEST(CliGeneralized, ConeEffectsRunByConesAndByRays) {
     auto a = run_cli(render_args({"--cones", effect, "--cone-rays", "16", "--out", ref.string()}));
     ASSERT_EQ(a.exit_code, 0) << a.err;
     EXPECT_NE(a.out.find("rays traced"), std::string::npos) << a.out;
-    auto b = run_cli(render_args({"--cones", effect, "--cone-samples", "16", "--reference", ref.string(), "--out",
-                                  cone.string()}));
+    auto b = run_cli(render_args({"--cones", effect, "--cone-coverage", "pattern", "--cone-samples", "16",
+                                  "--reference", ref.string(), "--out", cone.string()}));
     ASSERT_EQ(b.exit_code, 0) << b.err;
     EXPECT_NE(b.out.find("cones queried"), std::string::npos) << b.out;
+    EXPECT_NE(b.out.find("16 pattern directions"), std::string::npos) << b.out;
     EXPECT_NE(b.out.find("RMSE"), std::string::npos) << b.out;
+    auto c = run_cli(render_args({"--cones", effect, "--reference", ref.string(), "--out", cone.string()}));
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_NE(c.out.find("analytic coverage"), std::string::npos) << c.out;
   }
 }
 
@@ -59,6 +63,7 @@ TEST(CliGeneralized, BadValuesAreRefusedNamingTheOption) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--cones", "fog"}, "--cones"},
       {{"--cones", "aa", "--cone-samples", "0"}, "--cone-samples"},
+      {{"--cones", "aa", "--cone-coverage", "exact"}, "--cone-coverage"},
       {{"--cones", "shadows", "--cone-light-radius", "0"}, "--cone-light-radius"},
       {{"--cones", "aa", "--beams"}, "--cones"},
       {{"--beams", "--beam-tile", "0"}, "--beam-tile"},

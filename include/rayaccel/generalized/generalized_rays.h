@@ -1,5 +1,5 @@
 // Generalized rays over a built structure chosen at run time: one virtual call per image of beams or per cone, none per
-// node. Supported: every Bvh<BV> (AABB, sphere, OBB, k-DOP volumes), the wide BVH (4 or 8 wide) and the kd-tree.
+// node. Supported: every Bvh<BV> (AABB, sphere, OBB, k-DOP, hull and capsule volumes), the wide BVH (4 or 8 wide) and the kd-tree.
 #pragma once
 
 #include <memory>

@@ -28,7 +28,7 @@ inline float region_slack(const AABB& box) {
 }
 
 /// Bvh<BV>: a reference is a node index. A node's own volume is tested: spheres by the ball test, every other volume
-/// by its enclosing box (AABB nodes exactly so; OBB and k-DOP nodes through bounds(), conservative).
+/// by its enclosing box (AABB nodes exactly so; OBB, k-DOP, hull and capsule nodes through bounds(), conservative).
 template <BoundingVolume BV>
 class BvhView {
  public:

@@ -1,7 +1,7 @@
 // Anti-aliasing by sampling pixel corners: uniform supersampling on an n x n grid of sub-squares per pixel, and
 // adaptive subdivision (Whitted 1980) that splits a square into four only where its corner samples differ in
 // contrast (Mitchell 1987: (max - min) / (max + min) per channel) by at least a threshold, down to a maximum level.
-// Corners of pixels are traced once and shared by the neighbours that meet there.
+// Every point is traced once: pixel corners and points on pixel edges are shared by the neighbours that meet there.
 #pragma once
 
 #include <cstdint>
@@ -35,8 +35,10 @@ struct SampledImage {
   int width = 0;
   int height = 0;
   std::vector<Vec3> pixels;          ///< linear colour per pixel, row by row
-  std::vector<std::uint32_t> samples;  ///< samples traced for each pixel (its four corners included)
-  std::uint64_t sample_count = 0;    ///< samples traced in all (shared corners counted once)
+  /// Samples of each pixel: its four corners, plus the other points it traced (a point on an edge it shares with a
+  /// neighbour counts for the one that traced it first).
+  std::vector<std::uint32_t> samples;
+  std::uint64_t sample_count = 0;  ///< samples traced in all, each point once (uniform n: (n w + 1) (n h + 1))
 };
 
 /// Calls sample(x, y, key) at image-plane points (x, y) in pixels ((0, 0) the top-left corner of the image, (width,
