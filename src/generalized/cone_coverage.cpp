@@ -78,6 +78,41 @@ PlanePoint nearest_to_origin(std::span<const PlanePoint> poly) {
   return inside_pos || inside_neg ? PlanePoint{} : best;
 }
 
+/// The centroid of the convex polygon's part inside the square |x|, |y| <= r around the disk (a direction that
+/// stands for where the triangle covers the cone, for ordering triangles by depth); nullopt when that part is empty.
+std::optional<PlanePoint> centroid_in_square(std::span<const PlanePoint> poly, double r) {
+  std::array<PlanePoint, 16> a{}, b{};
+  std::size_t n = poly.size();
+  std::copy(poly.begin(), poly.end(), a.begin());
+  const double nx[4] = {1, -1, 0, 0}, ny[4] = {0, 0, 1, -1};
+  for (int side = 0; side < 4 && n > 0; ++side) {
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const PlanePoint& p = a[i];
+      const PlanePoint& q = a[(i + 1) % n];
+      const double dp = r - (nx[side] * p.x + ny[side] * p.y), dq = r - (nx[side] * q.x + ny[side] * q.y);
+      if (dp >= 0.0) b[m++] = p;
+      if ((dp >= 0.0) != (dq >= 0.0)) {
+        const double t = dp / (dp - dq);
+        b[m++] = {p.x + (q.x - p.x) * t, p.y + (q.y - p.y) * t};
+      }
+    }
+    a = b;
+    n = m;
+  }
+  double area = 0.0, cx = 0.0, cy = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const PlanePoint& p = a[i];
+    const PlanePoint& q = a[(i + 1) % n];
+    const double c = cross2(p, q);
+    area += c;
+    cx += (p.x + q.x) * c;
+    cy += (p.y + q.y) * c;
+  }
+  if (!(std::fabs(area) > 0.0)) return std::nullopt;
+  return PlanePoint{cx / (3.0 * area), cy / (3.0 * area)};
+}
+
 }  // namespace
 
 double segment_solid_angle(const PlanePoint& p, const PlanePoint& q, double half_angle) {
@@ -102,13 +137,20 @@ std::optional<TriangleCoverage> triangle_coverage(const PreparedCone& cone, cons
     return DVec3{ddot(d, cone.u()), ddot(d, cone.v()), ddot(d, cone.axis())};
   };
   const std::array<DVec3, 3> tri{local(a), local(b), local(c)};
-  double scale = 0.0;
-  for (const DVec3& p : tri) scale = std::fmax(scale, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
-  // The depth slab; its near side kept off the apex so that the projection stays finite.
-  const double z_near = std::fmax(double(k.t_min) * std::cos(double(k.half_angle)), 1e-12 * scale);
+  for (const DVec3& p : tri) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return std::nullopt;
+  }
+  for (const DVec3& p : tri) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return std::nullopt;
+  }
+  // The depth slab, the same for every triangle of the cone; its near side kept off the apex (by 1e-7 of the apex's
+  // largest coordinate, at least 1e-7) so that the projection stays finite. Each crossing is computed from the same
+  // endpoint whichever way an edge runs, so that an edge two triangles share is clipped to the same point in both
+  // (ProjectedUnion relies on it).
+  const double apex_scale = std::fmax(std::fmax(std::fabs(k.apex.x), std::fabs(k.apex.y)), std::fabs(k.apex.z));
+  const double z_near =
+      std::fmax(double(k.t_min) * std::cos(double(k.half_angle)), 1e-7 * std::fmax(apex_scale, 1.0));
   const double z_far = k.t_max;
-  if (!(scale > 0.0) || !std::isfinite(scale)) return std::nullopt;
-  // Sutherland-Hodgman against the two planes: at most 5 points.
   std::array<DVec3, 8> poly{tri[0], tri[1], tri[2]};
   std::size_t count = 3;
   const auto clip = [&](double plane, double sign) {
@@ -120,8 +162,12 @@ std::optional<TriangleCoverage> triangle_coverage(const PreparedCone& cone, cons
       const double dp = sign * (p.z - plane), dq = sign * (q.z - plane);
       if (dp >= 0.0) out[m++] = p;
       if ((dp >= 0.0) != (dq >= 0.0)) {
-        const double s = dp / (dp - dq);
-        out[m++] = {p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
+        const bool from_p = p.z < q.z || (p.z == q.z && (p.x < q.x || (p.x == q.x && p.y < q.y)));
+        const DVec3& f = from_p ? p : q;
+        const DVec3& g = from_p ? q : p;
+        const double df = from_p ? dp : dq, dg = from_p ? dq : dp;
+        const double s = df / (df - dg);
+        out[m++] = {f.x + (g.x - f.x) * s, f.y + (g.y - f.y) * s, f.z + (g.z - f.z) * s};
       }
     }
     poly = out;
@@ -130,14 +176,16 @@ std::optional<TriangleCoverage> triangle_coverage(const PreparedCone& cone, cons
   clip(z_near, 1.0);
   if (std::isfinite(z_far) && count > 0) clip(z_far, -1.0);
   if (count < 3) return std::nullopt;
-  std::array<PlanePoint, 8> plane;
+  std::array<PlanePoint, 16> plane;
   for (std::size_t i = 0; i < count; ++i) plane[i] = {poly[i].x / poly[i].z, poly[i].y / poly[i].z};
   const std::span<const PlanePoint> projected(plane.data(), count);
   const double total = 2.0 * std::numbers::pi * cap_height(k.half_angle);
   const double coverage = std::fmin(1.0, disk_polygon_solid_angle(projected, k.half_angle) / total);
   if (!(coverage > 1e-12)) return std::nullopt;
-  // Distance along the covered direction nearest the axis: where that direction meets the triangle's plane.
-  const PlanePoint q = nearest_to_origin(projected);
+  // Distance along the direction of the centroid of where the triangle covers the cone's bounding square (else the
+  // covered direction nearest the axis): where that direction meets the triangle's plane.
+  const PlanePoint q =
+      centroid_in_square(projected, std::tan(double(k.half_angle))).value_or(nearest_to_origin(projected));
   const DVec3 dir{q.x, q.y, 1.0};
   const DVec3 n = dcross(dsub(tri[1], tri[0]), dsub(tri[2], tri[0]));
   double distance = ddot(n, tri[0]) / ddot(n, dir) * dnorm(dir);

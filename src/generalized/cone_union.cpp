@@ -2,6 +2,7 @@
 #include "rayaccel/generalized/cone_union.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace rayaccel::generalized {
@@ -32,11 +33,17 @@ std::pair<double, double> inside(const PlanePoint& a, const PlanePoint& b, std::
     // Side of a + t d relative to p -> q: f0 + t f1, positive inside.
     const double f0 = cross2(e, PlanePoint{a.x - p.x, a.y - p.y});
     const double f1 = cross2(e, d);
-    if (f1 == 0.0) {
-      if (f0 > 0.0) continue;
-      if (f0 < 0.0) return {1.0, 0.0};
+    // On the edge's line up to rounding (relative 1e-9: projections of collinear 3D edges, such as a crease where
+    // two faces meet with different vertices, are collinear only up to rounding): decided by direction, not by sign.
+    const double l1e = std::fabs(e.x) + std::fabs(e.y);
+    const double reach = l1e * (std::fabs(a.x - p.x) + std::fabs(a.y - p.y) + std::fabs(d.x) + std::fabs(d.y));
+    if (std::fabs(f1) <= 1e-9 * reach && std::fabs(f0) <= 1e-9 * reach) {
       const bool against = e.x * d.x + e.y * d.y < 0.0;
       if (against || along_inside) continue;
+      return {1.0, 0.0};
+    }
+    if (f1 == 0.0) {
+      if (f0 > 0.0) continue;
       return {1.0, 0.0};
     }
     const double t = -f0 / f1;
@@ -75,27 +82,30 @@ double ProjectedUnion::add(std::span<const PlanePoint> polygon) {
     return segment_solid_angle({s.a.x + s.t0 * d.x, s.a.y + s.t0 * d.y}, {s.a.x + s.t1 * d.x, s.a.y + s.t1 * d.y},
                                half_angle_);
   };
-  // Cuts `pieces` by the polygon's inside interval: the parts inside go to `cut` (when given), the rest stay.
+  // Cuts `pieces` by the polygon's inside interval in place: the parts inside go to `cut` (when given), the rest stay.
   const auto subtract = [](std::vector<Piece>& pieces, const Polygon& by, bool along_inside, std::vector<Piece>* cut) {
-    std::vector<Piece> out;
-    out.reserve(pieces.size());
-    for (const Piece& s : pieces) {
-      if (!boxes_meet(by.lo, by.hi, s.a, s.b)) {
-        out.push_back(s);
-        continue;
-      }
+    const std::size_t count = pieces.size();
+    bool removed = false;
+    for (std::size_t i = 0; i < count; ++i) {
+      Piece& s = pieces[i];
+      if (!boxes_meet(by.lo, by.hi, s.a, s.b)) continue;
       auto [lo, hi] = inside(s.a, s.b, by.points, along_inside);
       lo = std::max(lo, s.t0);
       hi = std::min(hi, s.t1);
-      if (!(lo < hi)) {
-        out.push_back(s);
-        continue;
-      }
-      if (s.t0 < lo) out.push_back({s.a, s.b, s.t0, lo});
-      if (hi < s.t1) out.push_back({s.a, s.b, hi, s.t1});
+      if (!(lo < hi)) continue;
       if (cut) cut->push_back({s.a, s.b, lo, hi});
+      const Piece whole = s;
+      if (whole.t0 < lo) {
+        s.t1 = lo;
+        if (hi < whole.t1) pieces.push_back({whole.a, whole.b, hi, whole.t1});  // may move s: not used after
+      } else if (hi < whole.t1) {
+        s.t0 = hi;
+      } else {
+        s.t1 = s.t0;  // emptied, erased below
+        removed = true;
+      }
     }
-    pieces = std::move(out);
+    if (removed) std::erase_if(pieces, [](const Piece& s) { return !(s.t0 < s.t1); });
   };
   double added = 0.0;
   // The new polygon's edges outside every earlier polygon join the boundary.

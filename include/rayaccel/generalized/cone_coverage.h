@@ -31,11 +31,12 @@ double disk_polygon_solid_angle(std::span<const PlanePoint> polygon, double half
 
 struct TriangleCoverage {
   /// The triangle clipped to the depth slab and projected (3 to 5 points), for ProjectedUnion (cone_union.h).
-  std::array<PlanePoint, 8> polygon{};
+  std::array<PlanePoint, 16> polygon{};
   std::size_t count = 0;
   /// The fraction of the cone's solid angle whose rays meet the triangle, in [0, 1] (as if it were alone).
   double coverage = 0.0;
-  /// Distance from the apex to the triangle along the covered direction nearest the axis.
+  /// Distance from the apex to the triangle along the direction of the centroid of its projection clipped to the
+  /// square around the cone's disk (where it covers the cone; the depth that orders triangles front to back).
   float distance = 0.0f;
 };
 

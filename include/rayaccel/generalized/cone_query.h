@@ -43,7 +43,7 @@ const OptionTable<ConeQueryOptions>& cone_query_options();
 struct ConeHit {
   std::uint32_t prim_id = 0;
   /// Distance from the apex. Pattern: the smallest t at which a pattern ray hits the primitive. Analytic: the
-  /// distance to the triangle along its covered direction nearest the axis. Either way, for a primitive that covers
+  /// distance to the triangle where it covers the cone (cone_coverage.h). Either way, for a primitive that covers
   /// nothing (it meets the cone only between pattern rays, or may not meet it at all), the distance from the apex to
   /// its bounding box.
   float distance = 0.0f;
@@ -54,9 +54,10 @@ struct ConeHit {
 };
 
 /// What the cone sees. Pattern: each pattern direction's ray takes the closest hit among the candidates (ties to the
-/// lower id). Analytic: the candidates nearest first, each taking min(its coverage, what is still uncovered); exact
-/// when the primitives' projections do not overlap (a triangle behind another that only partly hides it counts
-/// whole), as in Amanatides' paper.
+/// lower id). Analytic: the candidates in the order of their distances, each taking the part of the cone its
+/// projection covers that the ones before left uncovered (cone_union.h); exact when that order is the order of depth
+/// on every direction (one distance per triangle, as in Amanatides' paper: triangles that cross, or a crease seen
+/// within one cone, may take each other's share).
 struct ConeVisibility {
   float blocked = 0.0f;  ///< fraction of the cone blocked within the range, in [0, 1]
   /// Each primitive with a visible share of the cone (the shares sum to `blocked`), nearest first; distance as in
