@@ -54,6 +54,7 @@ struct RenderArgs {
   // cone effects
   std::string cones;
   int cone_samples = 64;
+  std::string cone_coverage = "analytic";
   int cone_rays = 0;
   float cone_light_radius = 0.05f;
 };
@@ -66,6 +67,8 @@ void render_cone_mode(const RenderArgs& args, const Accelerator& accel, const Sc
   settings.height = height;
   settings.effect = parse_cone_effect(args.cones);
   settings.cone_samples = args.cone_samples;
+  settings.coverage = args.cone_coverage == "pattern" ? generalized::ConeCoverage::pattern
+                                                      : generalized::ConeCoverage::analytic;
   settings.rays = args.cone_rays;
   settings.light_radius_fraction = args.cone_light_radius;
   progress.stage(fmt::format("rendering {}x{} cone {}", width, height, args.cones));
@@ -82,7 +85,9 @@ void render_cone_mode(const RenderArgs& args, const Accelerator& accel, const Sc
              "tests{}\n",
              args.out, width, height, args.cones,
              args.cone_rays > 0 ? fmt::format("{} rays per cone", args.cone_rays)
-                                : fmt::format("{} pattern directions per cone", args.cone_samples),
+                : settings.coverage == generalized::ConeCoverage::pattern
+                    ? fmt::format("{} pattern directions per cone", args.cone_samples)
+                    : std::string("analytic coverage"),
              result.queries, args.cone_rays > 0 ? "rays traced" : "cones queried", result.milliseconds,
              static_cast<double>(result.cost.nodes_visited) / pixels,
              static_cast<double>(result.cost.primitives_tested) / pixels, error_text);
@@ -207,6 +212,9 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     }
     if (whitted || args.beams) throw UsageError("--cones: not with --mode whitted or --beams");
     require_range(args.cone_samples, 1, 65536, "--cone-samples");
+    if (args.cone_coverage != "analytic" && args.cone_coverage != "pattern") {
+      throw UsageError(fmt::format("--cone-coverage: '{}' is not analytic or pattern", args.cone_coverage));
+    }
     require_range(args.cone_rays, 0, 65536, "--cone-rays");
     if (!(args.cone_light_radius > 0.0f && args.cone_light_radius <= 1.0f)) {
       throw UsageError(fmt::format("--cone-light-radius: {} is not in (0, 1]", args.cone_light_radius));
@@ -335,7 +343,12 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--cones", args->cones,
                   "shadows (soft shadows from a spherical light) or aa (one cone per pixel), by cone queries over bvh, "
                   "bvh_wide or kdtree; with --cone-rays N the same estimate by N random rays per cone instead");
-  app->add_option("--cone-samples", args->cone_samples, "--cones: pattern directions per cone")->capture_default_str();
+  app->add_option("--cone-samples", args->cone_samples, "--cones with --cone-coverage pattern: directions per cone")
+      ->capture_default_str();
+  app->add_option("--cone-coverage", args->cone_coverage,
+                  "--cones: analytic (exact solid angle per triangle, added front to back; Amanatides 1984) or "
+                  "pattern (closest hits of --cone-samples rays)")
+      ->capture_default_str();
   app->add_option("--cone-rays", args->cone_rays, "--cones: random rays per cone instead of the cone query (0: cones)")
       ->capture_default_str();
   app->add_option("--cone-light-radius", args->cone_light_radius,

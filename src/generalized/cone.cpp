@@ -36,6 +36,8 @@ PreparedCone::PreparedCone(const Cone& cone) : cone_(cone) {
   const DVec3 helper = std::fabs(axis_.x) < 0.5 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
   const DVec3 u = unit(dcross(axis_, helper));
   const DVec3 v = dcross(axis_, u);
+  u_ = u;
+  v_ = v;
   // Square pyramid around the cone: its corners at tan(angle) * sqrt(2) * (1 + 1e-6) off the axis at distance 1.
   const double r = std::tan(double(cone.half_angle)) * (1.0 + 1e-6);
   DVec3 edges[4];

@@ -77,7 +77,7 @@ ConeEffectResult render_cone_effect(const Accelerator& accel, const Scene& scene
   check(s);
   std::unique_ptr<generalized::GeneralizedRays> cones;
   if (s.rays == 0) cones = generalized::make_generalized_rays(accel, scene);
-  const generalized::ConeQueryOptions query{.samples = s.cone_samples};
+  const generalized::ConeQueryOptions query{.samples = s.cone_samples, .coverage = s.coverage};
   const CameraFrame frame = camera.frame(s.width, s.height);
   ConeEffectResult result;
   result.image = Image::filled(s.width, s.height, kBackground);

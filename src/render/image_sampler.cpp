@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <charconv>
+#include <utility>
 #include <string>
 
 #include "rayaccel/core/error.h"
@@ -26,45 +27,64 @@ float parse_number(std::string_view text, std::string_view what) {
   return value;
 }
 
-/// The samples of one pixel on the finest grid, (N + 1) x (N + 1) points, traced on demand.
+/// Fine-grid points along one line of the image (a horizontal line of pixel edges across the whole width, or one
+/// pixel's vertical edge), each traced at most once, by whichever pixel asks first.
+struct SharedPoints {
+  std::vector<Vec3> values;
+  std::vector<std::uint8_t> known;
+  void reset(std::size_t size) {
+    values.resize(size);
+    known.assign(size, 0);
+  }
+};
+
+/// The samples of one pixel on the finest grid, (N + 1) x (N + 1) points, traced on demand. Points on its edges live
+/// in the neighbours' shared lines (top, bottom: image-wide rows; left, right: columns handed along a pixel row), so
+/// each point of the image is traced once.
 class PixelSamples {
  public:
   PixelSamples(int px, int py, int fine, long long row_stride, const std::function<Vec3(float, float, std::uint64_t)>& sample,
-               const Vec3 corners[4])
-      : px_(px), py_(py), fine_(fine), stride_(row_stride), sample_(sample),
-        values_(static_cast<std::size_t>(fine + 1) * (fine + 1)), known_(values_.size(), 0) {
-    const int at[4][2] = {{0, 0}, {fine, 0}, {0, fine}, {fine, fine}};
-    for (int c = 0; c < 4; ++c) {
-      const std::size_t i = index(at[c][0], at[c][1]);
-      values_[i] = corners[c];
-      known_[i] = 1;
-    }
+               SharedPoints& top, SharedPoints& bottom, SharedPoints& left, SharedPoints& right)
+      : px_(px), py_(py), fine_(fine), stride_(row_stride), sample_(sample), top_(top), bottom_(bottom), left_(left),
+        right_(right) {
+    own_.reset(static_cast<std::size_t>(fine + 1) * (fine + 1));
   }
 
   /// The sample at local fine-grid point (i, j).
   const Vec3& at(int i, int j) {
-    const std::size_t k = index(i, j);
-    if (!known_[k]) {
+    const auto [line, k] = where(i, j);
+    if (!line->known[k]) {
       const long long gx = static_cast<long long>(px_) * fine_ + i, gy = static_cast<long long>(py_) * fine_ + j;
       const float inv = 1.0f / static_cast<float>(fine_);
-      values_[k] = sample_(static_cast<float>(px_) + static_cast<float>(i) * inv,
-                           static_cast<float>(py_) + static_cast<float>(j) * inv,
-                           static_cast<std::uint64_t>(gy * stride_ + gx));
-      known_[k] = 1;
-      ++traced_;
+      line->values[k] = sample_(static_cast<float>(px_) + static_cast<float>(i) * inv,
+                                static_cast<float>(py_) + static_cast<float>(j) * inv,
+                                static_cast<std::uint64_t>(gy * stride_ + gx));
+      line->known[k] = 1;
+      const bool corner = (i == 0 || i == fine_) && (j == 0 || j == fine_);
+      ++(corner ? corners_traced_ : traced_);
     }
-    return values_[k];
+    return line->values[k];
   }
+  /// Points other than the pixel's corners that this pixel traced (a corner is counted as every pixel's own).
   std::uint32_t traced() const { return traced_; }
+  /// Every point this pixel traced, corners included.
+  std::uint32_t traced_all() const { return traced_ + corners_traced_; }
 
  private:
-  std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * (fine_ + 1) + i; }
+  std::pair<SharedPoints*, std::size_t> where(int i, int j) {
+    const std::size_t row = static_cast<std::size_t>(px_) * fine_ + i;
+    if (j == 0) return {&top_, row};
+    if (j == fine_) return {&bottom_, row};
+    if (i == 0) return {&left_, static_cast<std::size_t>(j)};
+    if (i == fine_) return {&right_, static_cast<std::size_t>(j)};
+    return {&own_, static_cast<std::size_t>(j) * (fine_ + 1) + i};
+  }
   int px_, py_, fine_;
   long long stride_;
   const std::function<Vec3(float, float, std::uint64_t)>& sample_;
-  std::vector<Vec3> values_;
-  std::vector<std::uint8_t> known_;
-  std::uint32_t traced_ = 0;
+  SharedPoints &top_, &bottom_, &left_, &right_;
+  SharedPoints own_;
+  std::uint32_t traced_ = 0, corners_traced_ = 0;
 };
 
 Vec3 mean4(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return (a + b + c + d) * 0.25f; }
@@ -149,63 +169,67 @@ SampledImage sample_image(int width, int height, const AntiAliasing& aa,
   const int fine = finest_subdivision(aa);
   if (!power_of_two(fine) || fine > 64) throw Error("image sampling: subdivision " + std::to_string(fine));
   const long long stride = static_cast<long long>(width) * fine + 1;  // fine-grid points per image row
-  const auto key = [&](long long gx, long long gy) { return static_cast<std::uint64_t>(gy * stride + gx); };
-
-  // The pixel corners, shared by the up to four pixels that meet at each.
-  const int cw = width + 1, ch = height + 1;
-  std::vector<Vec3> corners(static_cast<std::size_t>(cw) * ch);
-  tbb::parallel_for(tbb::blocked_range<int>(0, ch), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y) {
-      for (int x = 0; x < cw; ++x) {
-        corners[static_cast<std::size_t>(y) * cw + x] =
-            sample(static_cast<float>(x), static_cast<float>(y), key(static_cast<long long>(x) * fine,
-                                                                      static_cast<long long>(y) * fine));
-      }
-    }
-  });
 
   SampledImage out;
   out.width = width;
   out.height = height;
   out.pixels.resize(static_cast<std::size_t>(width) * height);
   out.samples.resize(out.pixels.size());
-  std::atomic<std::uint64_t> interior{0};
-  const auto pixel_value = [&](int x, int y) {
-    const auto corner = [&](int dx, int dy) { return corners[static_cast<std::size_t>(y + dy) * cw + x + dx]; };
-    const Vec3 c[4] = {corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)};
-    PixelSamples samples(x, y, fine, stride, sample, c);
-    Vec3 value;
-    if (aa.mode == AntiAliasing::Mode::adaptive) {
-      value = adaptive_value(samples, 0, 0, fine, aa.threshold);
-    } else {
-      // Uniform: every sub-square, summed row by row in double (an independent order from the adaptive
-      // recursion, so the two are compared, not copied).
-      double sum[3] = {0.0, 0.0, 0.0};
-      for (int j = 0; j < fine; ++j) {
-        for (int i = 0; i < fine; ++i) {
-          const Vec3 m = mean4(samples.at(i, j), samples.at(i + 1, j), samples.at(i, j + 1), samples.at(i + 1, j + 1));
-          for (int a = 0; a < 3; ++a) sum[a] += m[a];
-        }
-      }
-      const double n = static_cast<double>(fine) * fine;
-      value = {static_cast<float>(sum[0] / n), static_cast<float>(sum[1] / n), static_cast<float>(sum[2] / n)};
-    }
-    const std::size_t p = static_cast<std::size_t>(y) * width + x;
-    out.samples[p] = 4 + samples.traced();
-    interior += samples.traced();
-    return value;
-  };
+  std::atomic<std::uint64_t> traced{0};
+  const std::size_t line_size = static_cast<std::size_t>(width) * fine + 1;
+  // Pixel row y reads and writes lines y and y + 1 of the chunk; rows of one parity run in parallel (no two share a
+  // line), then the other parity, so a point on a line between two rows is traced by the first that needs it.
   constexpr int kRowsPerChunk = 16;  // progress is reported on the calling thread after each chunk of rows
+  std::vector<SharedPoints> lines(kRowsPerChunk + 1);
+  lines[0].reset(line_size);
+  const auto pixel_row = [&](int y, SharedPoints& top, SharedPoints& bottom) {
+    SharedPoints left, right;
+    left.reset(static_cast<std::size_t>(fine) + 1);
+    std::uint64_t row_traced = 0;
+    for (int x = 0; x < width; ++x) {
+      right.reset(static_cast<std::size_t>(fine) + 1);
+      PixelSamples samples(x, y, fine, stride, sample, top, bottom, left, right);
+      Vec3 value;
+      if (aa.mode == AntiAliasing::Mode::adaptive) {
+        value = adaptive_value(samples, 0, 0, fine, aa.threshold);
+      } else {
+        // Uniform: every sub-square, summed row by row in double (an independent order from the adaptive
+        // recursion, so the two are compared, not copied).
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (int j = 0; j < fine; ++j) {
+          for (int i = 0; i < fine; ++i) {
+            const Vec3 m =
+                mean4(samples.at(i, j), samples.at(i + 1, j), samples.at(i, j + 1), samples.at(i + 1, j + 1));
+            for (int a = 0; a < 3; ++a) sum[a] += m[a];
+          }
+        }
+        const double n = static_cast<double>(fine) * fine;
+        value = {static_cast<float>(sum[0] / n), static_cast<float>(sum[1] / n), static_cast<float>(sum[2] / n)};
+      }
+      const std::size_t p = static_cast<std::size_t>(y) * width + x;
+      out.pixels[p] = value;
+      out.samples[p] = 4 + samples.traced();
+      row_traced += samples.traced_all();
+      std::swap(left, right);
+    }
+    traced += row_traced;
+  };
   for (int y0 = 0; y0 < height; y0 += kRowsPerChunk) {
     const int y1 = std::min(height, y0 + kRowsPerChunk);
-    tbb::parallel_for(tbb::blocked_range<int>(y0, y1, 1), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y != rows.end(); ++y) {
-        for (int x = 0; x < width; ++x) out.pixels[static_cast<std::size_t>(y) * width + x] = pixel_value(x, y);
-      }
-    });
+    for (int y = y0 + 1; y <= y1; ++y) lines[static_cast<std::size_t>(y - y0)].reset(line_size);
+    for (int parity = 0; parity < 2; ++parity) {
+      const int count = (y1 - y0 - parity + 1) / 2;
+      tbb::parallel_for(tbb::blocked_range<int>(0, std::max(count, 0), 1), [&](const tbb::blocked_range<int>& ks) {
+        for (int k = ks.begin(); k != ks.end(); ++k) {
+          const int y = y0 + parity + 2 * k;
+          pixel_row(y, lines[static_cast<std::size_t>(y - y0)], lines[static_cast<std::size_t>(y - y0 + 1)]);
+        }
+      });
+    }
+    std::swap(lines[0], lines[static_cast<std::size_t>(y1 - y0)]);
     if (progress) progress(static_cast<float>(y1) / static_cast<float>(height));
   }
-  out.sample_count = static_cast<std::uint64_t>(cw) * ch + interior.load();
+  out.sample_count = traced.load();
   return out;
 }
 

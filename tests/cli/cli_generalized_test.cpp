@@ -70,8 +70,8 @@ TEST(CliGeneralized, ConeEffectsRunByConesAndByRays) {
     const auto ref = dir / (std::string("ref_") + effect + ".png"), cone = dir / "cone.png";
     auto a = run_cli(render_args({"--cones", effect, "--cone-rays", "16", "--out", (dir / "rays.png").string()}));
     ASSERT_EQ(a.exit_code, 0) << a.err;
-    auto b = run_cli(render_args({"--cones", effect, "--cone-samples", "16", "--reference", ref.string(), "--out",
-                                  cone.string()}));
+    auto b = run_cli(render_args({"--cones", effect, "--cone-coverage", "pattern", "--cone-samples", "16",
+                                  "--reference", ref.string(), "--out", cone.string()}));
     ASSERT_EQ(b.exit_code, 0) << b.err;
     // One cone per shading point where the estimate traces 16 rays: anti-aliasing shades every pixel once; shadows
     // one point per pixel that hits the scene.
@@ -90,6 +90,17 @@ TEST(CliGeneralized, ConeEffectsRunByConesAndByRays) {
     EXPECT_LT(rmse, 12.0) << effect;
     const char* other = std::string(effect) == "aa" ? "shadows" : "aa";
     EXPECT_LT(2.0 * rmse, compare_images(image, references[other]).rmse) << effect;
+    EXPECT_NE(b.out.find("16 pattern directions"), std::string::npos) << b.out;
+    // The default, analytic coverage: the same checks against the same reference.
+    const auto analytic = dir / "analytic.png";
+    auto c = run_cli(render_args({"--cones", effect, "--reference", ref.string(), "--out", analytic.string()}));
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_NE(c.out.find("analytic coverage"), std::string::npos) << c.out;
+    const Image analytic_image = load_png(analytic);
+    const double analytic_rmse = compare_images(analytic_image, references[effect]).rmse;
+    EXPECT_NEAR(number_after(c.out, "RMSE "), analytic_rmse, 0.0005) << c.out;
+    EXPECT_LT(analytic_rmse, 12.0) << effect;
+    EXPECT_LT(2.0 * analytic_rmse, compare_images(analytic_image, references[other]).rmse) << effect;
   }
 }
 
@@ -99,6 +110,7 @@ TEST(CliGeneralized, BadValuesAreRefusedNamingTheOption) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--cones", "fog"}, "--cones"},
       {{"--cones", "aa", "--cone-samples", "0"}, "--cone-samples"},
+      {{"--cones", "aa", "--cone-coverage", "exact"}, "--cone-coverage"},
       {{"--cones", "shadows", "--cone-light-radius", "0"}, "--cone-light-radius"},
       {{"--cones", "aa", "--beams"}, "--cones"},
       {{"--beams", "--beam-tile", "0"}, "--beam-tile"},

@@ -72,9 +72,9 @@ TEST(Whitted, AdaptiveSamplingWithThresholdZeroEqualsUniformAtItsFinestLevel) {
     EXPECT_EQ(a.samples.samples[i], u.samples.samples[i]) << "pixel " << i;
   }
   EXPECT_EQ(a.samples.sample_count, u.samples.sample_count);
-  // The shared pixel corners once, then every other point of each pixel's 5 x 5 grid (points on an edge between two
-  // pixels are traced by both).
-  EXPECT_EQ(a.samples.sample_count, std::uint64_t{33 * 25 + 32 * 24 * (25 - 4)});
+  // Every point of the image's fine grid once: (4 w + 1) (4 h + 1) for 32 x 24 pixels, 16 rays per pixel and a border
+  // (it was 33 * 25 + 32 * 24 * 21, 22 per pixel, while points on an edge between two pixels were traced by both).
+  EXPECT_EQ(a.samples.sample_count, std::uint64_t{129 * 97});
   EXPECT_EQ(a.counts.camera, a.samples.sample_count);
   EXPECT_EQ(a.counts.camera, u.counts.camera);
 }

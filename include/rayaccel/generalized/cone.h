@@ -45,10 +45,15 @@ class PreparedCone {
   std::vector<Vec3> pattern(int count) const;
   /// The ray of one pattern direction over the cone's range.
   Ray ray(const Vec3& direction) const { return Ray{cone_.apex, cone_.t_min, direction, cone_.t_max}; }
+  /// The cone's orthonormal frame: u, v across the axis, axis along it (right-handed).
+  const DVec3& u() const { return u_; }
+  const DVec3& v() const { return v_; }
+  const DVec3& axis() const { return axis_; }
 
  private:
   Cone cone_;
   DVec3 axis_;  ///< unit
+  DVec3 u_, v_;
   Beam pyramid_;
 };
 

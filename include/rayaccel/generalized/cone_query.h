@@ -1,6 +1,7 @@
 // The cone query (Amanatides 1984): every primitive a cone may meet within its distance range, nearest first, each with
 // the fraction of the cone it covers. The tree is walked once with the conservative cone/volume tests of cone.h;
-// coverage is measured on the cone's direction pattern with the single-ray kernel.
+// coverage is exact for triangles (cone_coverage.h) and accumulated front to back by Amanatides' rule, or measured on
+// the cone's direction pattern with the single-ray kernel (the option kept for comparison, and for other primitives).
 #pragma once
 
 #include <algorithm>
@@ -12,31 +13,55 @@
 #include "rayaccel/generalized/cone.h"
 #include "rayaccel/scene/scene.h"
 
+namespace rayaccel {
+template <class T>
+class OptionTable;
+}
+
 namespace rayaccel::generalized {
+
+/// How a cone measures what it covers.
+enum class ConeCoverage {
+  /// Triangles: the exact solid-angle fraction of each (cone_coverage.h); visibility adds the candidates' fractions
+  /// nearest first, each cut to what is left uncovered (Amanatides 1984), and stops once the cone is full. Scenes of
+  /// other primitives use the pattern.
+  analytic,
+  /// The direction pattern: `samples` rays, each taking its closest hit among the candidates.
+  pattern,
+};
 
 struct ConeQueryOptions {
   /// Directions of the pattern that measures coverage (cone.h), >= 1. Coverage is a multiple of 1 / samples; a
   /// primitive's estimate errs by at most the fraction of pattern cells its outline crosses.
   int samples = 256;
+  ConeCoverage coverage = ConeCoverage::analytic;
 };
+
+/// The options as rows (key=value parsing and checks, as a structure's options): samples, coverage=analytic|pattern.
+const OptionTable<ConeQueryOptions>& cone_query_options();
 
 struct ConeHit {
   std::uint32_t prim_id = 0;
-  /// Distance from the apex: the smallest t at which a pattern ray hits the primitive; for a primitive no pattern ray
-  /// hits (coverage 0: it meets the cone only between them, or may not meet it at all), the distance from the apex
-  /// to its bounding box.
+  /// Distance from the apex. Pattern: the smallest t at which a pattern ray hits the primitive. Analytic: the
+  /// distance to the triangle where it covers the cone (cone_coverage.h). Either way, for a primitive that covers
+  /// nothing (it meets the cone only between pattern rays, or may not meet it at all), the distance from the apex to
+  /// its bounding box.
   float distance = 0.0f;
   /// Coverage: the fraction of the cone's solid angle whose rays hit the primitive within [t_min, t_max], as if it
-  /// were alone (occlusion by other primitives is not subtracted), estimated as the fraction of pattern directions
-  /// whose ray the kernel reports hitting it.
+  /// were alone (occlusion by other primitives is not subtracted): exact (analytic), or the fraction of pattern
+  /// directions whose ray the kernel reports hitting it.
   float coverage = 0.0f;
 };
 
-/// What the cone sees: each pattern direction's ray takes the closest hit among the candidates (ties to the lower id).
+/// What the cone sees. Pattern: each pattern direction's ray takes the closest hit among the candidates (ties to the
+/// lower id). Analytic: the candidates in the order of their distances, each taking the part of the cone its
+/// projection covers that the ones before left uncovered (cone_union.h); exact when that order is the order of depth
+/// on every direction (one distance per triangle, as in Amanatides' paper: triangles that cross, or a crease seen
+/// within one cone, may take each other's share).
 struct ConeVisibility {
-  float blocked = 0.0f;  ///< fraction of pattern directions whose ray hits something within the range
-  /// Each primitive that is the closest hit of some pattern ray: coverage = the fraction of pattern directions on
-  /// which it is (its visible share of the cone; the shares sum to `blocked`), distance = its nearest such hit.
+  float blocked = 0.0f;  ///< fraction of the cone blocked within the range, in [0, 1]
+  /// Each primitive with a visible share of the cone (the shares sum to `blocked`), nearest first; distance as in
+  /// ConeHit (pattern: its nearest hit among the rays it is the closest hit of).
   std::vector<ConeHit> visible;
 };
 

@@ -6,6 +6,7 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/core/stats.h"
+#include "rayaccel/generalized/cone_query.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/image.h"
 #include "rayaccel/scene/scene.h"
@@ -27,7 +28,9 @@ struct ConeEffectSettings {
   int width = 512;
   int height = 512;
   ConeEffect effect = ConeEffect::soft_shadows;
-  int cone_samples = 64;  ///< directions of each cone's pattern (generalized/cone.h), >= 1
+  /// How each cone measures coverage: exact per triangle, added front to back (the default), or on its pattern.
+  generalized::ConeCoverage coverage = generalized::ConeCoverage::analytic;
+  int cone_samples = 64;  ///< coverage=pattern: directions of each cone's pattern (generalized/cone.h), >= 1
   /// > 0: the many-ray estimate instead, this many random rays per cone (shadow rays, or camera rays per pixel).
   int rays = 0;
   float light_radius_fraction = 0.05f;  ///< soft shadows: the light's radius over the scene box diagonal, > 0

@@ -1,5 +1,5 @@
-// Anti-aliasing by sampling shared pixel corners: uniform n x n supersampling, and adaptive subdivision (Whitted
-// 1980) where a square's corners differ in contrast (Mitchell 1987) by at least a threshold.
+// Anti-aliasing by sampling shared pixel corners, each point traced once: uniform n x n supersampling, and adaptive
+// subdivision (Whitted 1980) where a square's corners differ in contrast (Mitchell 1987) by at least a threshold.
 #pragma once
 
 #include <cstdint>
@@ -33,8 +33,10 @@ struct SampledImage {
   int width = 0;
   int height = 0;
   std::vector<Vec3> pixels;          ///< linear colour per pixel, row by row
-  std::vector<std::uint32_t> samples;  ///< samples traced for each pixel (its four corners included)
-  std::uint64_t sample_count = 0;    ///< samples traced in all (shared corners counted once)
+  /// Samples of each pixel: its four corners, plus the other points it traced (a point on an edge it shares with a
+  /// neighbour counts for the one that traced it first).
+  std::vector<std::uint32_t> samples;
+  std::uint64_t sample_count = 0;  ///< samples traced in all, each point once (uniform n: (n w + 1) (n h + 1))
 };
 
 /// Calls sample(x, y, key) at image-plane points (x, y) in pixels ((0, 0) the top-left corner of the image, (width,
