@@ -4,6 +4,8 @@
 // (t_min, t_max].
 #include "rayaccel/compare/embree_accelerator.h"
 
+#include "rayaccel/accel/registry_extension.h"
+
 #ifdef RAYACCEL_HAVE_EMBREE
 
 #include <embree3/rtcore.h>
@@ -381,3 +383,9 @@ void register_embree(std::vector<AcceleratorInfo>&) {}
 }  // namespace rayaccel
 
 #endif  // RAYACCEL_HAVE_EMBREE
+
+namespace rayaccel {
+
+void enable_embree_comparison() { add_registry_hook(register_embree); }
+
+}  // namespace rayaccel
