@@ -99,7 +99,7 @@ foreach(case "${COMPONENTS}" "no_such_component")
   set(dir ${WORK_DIR}/components)
   file(REMOVE_RECURSE ${dir})
   execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/components -B ${dir} -G ${GENERATOR}
-                          -DCMAKE_PREFIX_PATH=${prefix} "-DCOMPONENTS=${case}"
+                          -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${prefix} "-DCOMPONENTS=${case}"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
   if(case STREQUAL "no_such_component")
     if(rc EQUAL 0 OR NOT out MATCHES "rayaccel has no component 'no_such_component'")
