@@ -152,15 +152,16 @@ def _place_labels(fig, ax, points):
     already placed or leave the axes; returns the Text objects placed."""
     renderer = fig.canvas.get_renderer()
     frame = ax.get_window_extent(renderer)
-    placed = []
+    placed, boxes = [], []
     for x, y, text in points:
         label = ax.annotate(text, (x, y), fontsize=7, xytext=(4, 3), textcoords="offset points")
         box = label.get_window_extent(renderer)
         inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
-        if not inside or any(box.overlaps(other.get_window_extent(renderer)) for other in placed):
+        if not inside or any(box.overlaps(other) for other in boxes):
             label.remove()
         else:
             placed.append(label)
+            boxes.append(box)
     return placed
 
 

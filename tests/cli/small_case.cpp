@@ -10,22 +10,6 @@
 
 namespace rayaccel::testing {
 
-void write_ply(const std::filesystem::path& path, const TriangleMesh& mesh) {
-  std::ofstream out(path, std::ios::binary);
-  out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.vertices.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const Vec3& v : mesh.vertices) out.write(reinterpret_cast<const char*>(&v), sizeof(v));
-  for (const auto& t : mesh.triangles) {
-    const unsigned char three = 3;
-    out.write(reinterpret_cast<const char*>(&three), 1);
-    for (std::uint32_t i : t) {
-      const std::int32_t index = static_cast<std::int32_t>(i);
-      out.write(reinterpret_cast<const char*>(&index), sizeof(index));
-    }
-  }
-}
-
 TriangleMesh small_mesh() {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
