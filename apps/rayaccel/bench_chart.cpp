@@ -12,7 +12,7 @@ namespace {
 
 constexpr int kLabelWidth = 210;  // px of structure names left of the bars
 constexpr int kBarWidth = 230;    // px of the longest bar
-constexpr int kValueWidth = 120;  // px of value text right of the bars
+constexpr int kValueWidth = 160;  // px of value text right of the bars
 constexpr int kRowHeight = 17;
 constexpr int kTitleHeight = 24;
 constexpr std::size_t kLabelChars = 32;  // longer specs are shortened, the full one in a tooltip
