@@ -1,7 +1,8 @@
 # cmake --install: headers (with the generated version.h), the static and shared libraries, the CLI (installed by
 # apps/rayaccel), the CMake package (rayaccelConfig.cmake, rayaccelConfigVersion.cmake, exported targets
-# rayaccel::rayaccel and rayaccel::rayaccel_shared) and rayaccel.pc. Everything is relocatable: --prefix may differ
-# from CMAKE_INSTALL_PREFIX.
+# rayaccel::rayaccel and rayaccel::rayaccel_shared, and per component rayaccel::mesh_import and rayaccel::compare in
+# export sets of their own, loaded only when asked for) and rayaccel.pc. Everything is relocatable: --prefix may
+# differ from CMAKE_INSTALL_PREFIX.
 include(CMakePackageConfigHelpers)
 set(RAYACCEL_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/rayaccel)
 
@@ -16,6 +17,16 @@ install(TARGETS ${RAYACCEL_INSTALLED_LIBRARIES} EXPORT rayaccelTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(EXPORT rayaccelTargets NAMESPACE rayaccel:: DESTINATION ${RAYACCEL_CMAKE_DIR})
+# Components: mesh_import (assimp) and compare (Embree), so that a consumer of the libraries needs neither.
+set(RAYACCEL_COMPONENTS)
+foreach(component mesh_import compare)
+  if(TARGET rayaccel_${component})
+    list(APPEND RAYACCEL_COMPONENTS ${component})
+    install(TARGETS rayaccel_${component} EXPORT rayaccel_${component}Targets
+      ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+    install(EXPORT rayaccel_${component}Targets NAMESPACE rayaccel:: DESTINATION ${RAYACCEL_CMAKE_DIR})
+  endif()
+endforeach()
 
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/rayaccelConfig.cmake.in
   ${PROJECT_BINARY_DIR}/rayaccelConfig.cmake INSTALL_DESTINATION ${RAYACCEL_CMAKE_DIR})
@@ -27,15 +38,10 @@ install(FILES ${PROJECT_BINARY_DIR}/rayaccelConfig.cmake ${PROJECT_BINARY_DIR}/r
 
 # pkg-config: the prefix is found from the .pc file's own place, so the file stays right under any --prefix.
 file(RELATIVE_PATH RAYACCEL_PC_TO_PREFIX /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
+# The headers need C++20, so Cflags carry -std=c++20; assimp is only for `pkg-config --static` (mesh import).
 set(RAYACCEL_PC_REQUIRES_PRIVATE "")
-set(RAYACCEL_PC_LIBS_PRIVATE "")
-set(RAYACCEL_PC_CFLAGS "")
 if(RAYACCEL_WITH_ASSIMP)
   string(APPEND RAYACCEL_PC_REQUIRES_PRIVATE "assimp")
-endif()
-if(RAYACCEL_HAVE_EMBREE)
-  string(APPEND RAYACCEL_PC_LIBS_PRIVATE "-lembree3")
-  string(APPEND RAYACCEL_PC_CFLAGS " -DRAYACCEL_HAVE_EMBREE=1")
 endif()
 configure_file(${CMAKE_CURRENT_LIST_DIR}/rayaccel.pc.in ${PROJECT_BINARY_DIR}/rayaccel.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/rayaccel.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every build and test dependency of rayaccel from Debian packages (only what is missing). Clang and
-# libclang-rt-dev (libFuzzer and Clang's sanitizer runtimes) are for the fuzz tier, scripts/ci_fuzz.sh.
+# libclang-rt-dev (libFuzzer and Clang's sanitizer runtimes) are for the fuzz tier, scripts/ci_fuzz.sh; chromium opens
+# the bench's HTML report in a test (tests/cli/bench_report_test.cpp).
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -10,6 +11,7 @@ packages=(
   python3 python3-numpy
   python3-dev pybind11-dev python3-pytest python3-matplotlib python3-pip python3-setuptools python3-wheel
   python3-dask python3-distributed
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,11 +1,13 @@
-// Internals of `rayaccel bench` shared by its three files: the workloads, the per-structure results, the check
-// against a reference (bench_check.cpp) and the table and JSON output (bench_report.cpp).
+// Internals of `rayaccel bench` shared by its files: options (bench_command.cpp), workloads (bench_workloads.cpp),
+// measuring (bench_run.cpp), the check against a reference (bench_check.cpp), table and JSON (bench_report.cpp) and
+// the HTML page (bench_html.cpp).
 #pragma once
 
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -13,7 +15,10 @@
 
 #include "rayaccel/accel/accelerator.h"
 #include "rayaccel/accel/brute_force.h"
+#include "rayaccel/render/camera.h"
+#include "rayaccel/render/heatmap.h"
 #include "rayaccel/scene/scene.h"
+#include "progress.h"
 
 namespace rayaccel::cli {
 
@@ -37,6 +42,37 @@ struct Workload {
   }
   bool packets() const { return is_packet_kind(kind); }
 };
+
+/// The kinds named in --rays ("primary,shadow,..."), in the given order, each once; UsageError for an unknown one.
+std::vector<RayKind> parse_kinds(const std::string& text);
+/// The workloads of `kinds` over the N x N `primary` rays of `camera` and their closest hits `primary_hits`.
+std::vector<Workload> make_workloads(const Scene& scene, const Camera& camera, const std::vector<RayKind>& kinds,
+                                     int resolution, const std::vector<Ray>& primary,
+                                     const std::vector<Hit>& primary_hits);
+
+/// What the command line asks of a run.
+struct BenchArgs {
+  std::vector<std::string> scenes;
+  std::string accel;  ///< empty: the default structure; "all": every variant; else a comma list of specs
+  std::string rays = "primary,diffuse,shadow,occlusion,light,packet,light_packet";
+  int resolution = 256;
+  int threads = 0;
+  int repeat = 5;
+  std::string compare;
+  std::string json;
+  std::string images;  ///< set by --images, or to REPORT/images by --report
+  std::string report;
+  std::uint64_t heat_max = 0;  ///< 0: every heat map of the run on one shared scale, drawn at the end
+};
+
+/// A heat map waiting for the run's shared colour scale.
+struct PendingHeatMap {
+  std::filesystem::path file;
+  HeatFrame frame;
+};
+
+/// The file name of a structure's "normals" or "heatmap" image for one scene.
+std::string bench_image_name(const std::string& scene_name, const std::string& spec, const char* mode_name);
 
 struct KindResult {
   RayKind kind = RayKind::primary;
@@ -77,6 +113,14 @@ struct SceneReport {
   double scene_preparation_ms = 0.0;  ///< included in the build times of rayaccel's structures
   std::vector<StructureResult> rows;
 };
+
+/// Measures every structure of `specs` (and Embree with --compare embree) on one scene.
+SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::string>& specs,
+                        const std::vector<RayKind>& kinds, const BenchArgs& args, Progress& progress,
+                        std::vector<PendingHeatMap>& heat_maps);
+/// Draws every kept heat map on one scale, the shared_cost_range() of all of them, and writes them; returns the
+/// scale (empty when there were none).
+CostRange write_shared_heat_maps(std::vector<PendingHeatMap>& heat_maps, Progress& progress);
 
 /// The reference every structure is checked against before timing: Embree's answers for every ray when it is
 /// available (every ray where the structure names another primitive or hit/miss is then settled by brute force,
@@ -134,8 +178,20 @@ class ReferenceCheck {
 /// bit for bit in t, u and v (a miss: t = +inf, u = v = 0); else what differs.
 std::string kernel_fault(const Scene& scene, const Ray& ray, const Hit& hit);
 
-/// The aligned per-scene table on stdout, with ratios to the Embree row when there is one.
+/// The row of plain "embree" (the one ratios are taken to) when it was measured without failing, else null.
+const StructureResult* embree_row(const SceneReport& report);
+/// Two decimals, or three significant digits for small values (brute force runs at thousandths of a Mray/s).
+std::string number(double value);
+
+/// The per-scene tables on stdout (build and memory; Mrays/s; traversal cost), each aligned and narrow enough for
+/// a terminal, with ratios to the Embree row when there is one.
 void print_table(const SceneReport& report);
 nlohmann::json to_json(const SceneReport& report);
+
+/// The run as one self-contained HTML page, DIR/index.html: per scene the table, bar charts (inline SVG) and every
+/// structure's normals and heat-map images (`images`, relative to DIR) on the run's shared colour scale `heat`,
+/// with the machine and the commit. Nothing is fetched from the network.
+void write_html_report(const std::filesystem::path& dir, const std::vector<SceneReport>& reports,
+                       const std::filesystem::path& images, const CostRange& heat, const BenchArgs& args);
 
 }  // namespace rayaccel::cli

@@ -1,4 +1,4 @@
-// Output of `rayaccel bench`: an aligned table per scene (ratios to Embree when it was measured) and JSON.
+// Output of `rayaccel bench`: aligned tables per scene (ratios to Embree when it was measured) and JSON.
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -27,8 +27,6 @@ std::size_t StructureResult::mismatches() const {
   return n;
 }
 
-namespace {
-
 const StructureResult* embree_row(const SceneReport& report) {
   for (const auto& row : report.rows) {
     if (row.is_embree && row.spec == "embree" && row.failure.empty()) return &row;
@@ -36,15 +34,21 @@ const StructureResult* embree_row(const SceneReport& report) {
   return nullptr;
 }
 
-/// Two decimals, or three significant digits for small values (brute force runs at thousandths of a Mray/s).
 std::string number(double value) {
   return value != 0.0 && std::abs(value) < 1.0 ? fmt::format("{:.3g}", value) : fmt::format("{:.2f}", value);
+}
+
+namespace {
+
+/// " (ratio x)", three significant digits, or " (<0.01x)" below a hundredth (brute force), which keeps columns narrow.
+std::string ratio_text(double ratio) {
+  return ratio < 0.01 ? std::string(" (<0.01x)") : fmt::format(" ({:.3g}x)", ratio);
 }
 
 /// "value" or "value (ratio x)" where ratio = value / reference.
 std::string with_ratio(double value, const double* reference) {
   std::string text = number(value);
-  if (reference && *reference > 0.0) text += fmt::format(" ({:.3g}x)", value / *reference);
+  if (reference && *reference > 0.0) text += ratio_text(value / *reference);
   return text;
 }
 
@@ -72,57 +76,41 @@ void print_aligned(const std::vector<std::vector<std::string>>& rows) {
 
 void print_table(const SceneReport& report) {
   const StructureResult* embree = embree_row(report);
-  fmt::print("\nScene {} ({} {}, {} threads, {}x{} camera rays; reference: {})\n", report.name, report.primitives,
+  fmt::print("\nScene {} ({} {}, {} threads, {}x{} camera rays)\nreference: {}\n", report.name, report.primitives,
              report.kind, report.threads, report.resolution, report.resolution, report.reference);
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> header = {"structure", "build ms", "memory MB", "B/prim", "with input MB"};
   fmt::print("(build ms of rayaccel's structures includes the scene preparation, {:.2f} ms{})\n",
              report.scene_preparation_ms,
-             embree ? "; Embree does the same work inside its build, and is measured before and after the structures, "
+             embree ? ";\n Embree does the same work inside its build, and is measured before and after the structures, "
                       "its samples pooled"
                     : "");
-  if (!report.rows.empty()) {
-    for (const auto& k : report.rows.front().kinds) {
-      header.push_back(fmt::format("{} Mrays/s", to_string(k.kind)));
-    }
-    // Packet traversals take no statistics, so packet rays have no nodes/prims column.
-    for (const auto& k : report.rows.front().kinds) {
-      if (!is_packet_kind(k.kind)) header.push_back(fmt::format("{} nodes/prims", to_string(k.kind)));
-    }
-  }
-  header.push_back("mismatches");
   if (embree) fmt::print("(ratios in parentheses: this structure / embree)\n");
-  rows.push_back(header);
+  const std::vector<KindResult> no_kinds;
+  const std::vector<KindResult>& kinds = report.rows.empty() ? no_kinds : report.rows.front().kinds;
+  // Three narrow tables rather than one wide one: build and memory, speed per ray kind, traversal cost per ray kind.
+  std::vector<std::vector<std::string>> build = {
+      {"structure", "build ms", "memory MB", "B/prim", "with input MB", "mismatches"}};
+  std::vector<std::vector<std::string>> speed = {{"Mrays/s"}};
+  std::vector<std::vector<std::string>> cost = {{"nodes/prims per ray"}};
+  for (const auto& k : kinds) {
+    speed.front().push_back(to_string(k.kind));
+    // Packet traversals take no statistics, so packet rays have no nodes/prims column.
+    if (!is_packet_kind(k.kind)) cost.front().push_back(to_string(k.kind));
+  }
   for (const auto& row : report.rows) {
-    std::vector<std::string> cells = {row.spec};
     if (!row.failure.empty()) {
-      cells.push_back("FAILED: " + row.failure);
-      rows.push_back(cells);
+      build.push_back({row.spec, "FAILED: " + row.failure});
       continue;
     }
     const bool ratio = embree && &row != embree;
     const double embree_build = embree ? embree->build_ms_median : 0.0;
     const double embree_memory = embree ? static_cast<double>(embree->memory_bytes) : 0.0;
     const double embree_total = embree ? static_cast<double>(embree->memory_bytes + embree->input_memory_bytes) : 0.0;
-    cells.push_back(with_ratio(row.build_ms_median, ratio ? &embree_build : nullptr));
     const double memory = static_cast<double>(row.memory_bytes);
     const double total = static_cast<double>(row.memory_bytes + row.input_memory_bytes);
     const auto megabytes = [&](double bytes, double embree_bytes) {
       return number(bytes / (1024.0 * 1024.0)) +
-             (ratio && embree_bytes > 0.0 ? fmt::format(" ({:.3g}x)", bytes / embree_bytes) : "");
+             (ratio && embree_bytes > 0.0 ? ratio_text(bytes / embree_bytes) : "");
     };
-    cells.push_back(megabytes(memory, embree_memory));
-    cells.push_back(fmt::format("{:.1f}", report.primitives ? memory / report.primitives : 0.0));
-    cells.push_back(megabytes(total, embree_total));
-    for (std::size_t k = 0; k < row.kinds.size(); ++k) {
-      const double* reference = ratio && k < embree->kinds.size() ? &embree->kinds[k].mrays_s_median : nullptr;
-      cells.push_back(with_ratio(row.kinds[k].mrays_s_median, reference));
-    }
-    for (const auto& k : row.kinds) {
-      if (is_packet_kind(k.kind)) continue;
-      cells.push_back(k.nodes_per_ray < 0.0 ? std::string("n/a")
-                                            : fmt::format("{:.1f}/{:.1f}", k.nodes_per_ray, k.prims_per_ray));
-    }
     std::size_t foreign = 0, sampled = 0;
     for (const auto& k : row.kinds) {
       foreign += k.foreign_differences;
@@ -133,10 +121,32 @@ void print_table(const SceneReport& report) {
                                         : fmt::format("{}", row.mismatches());
     if (!row.validate_problems.empty()) verdict += fmt::format(" +{} INVALID", row.validate_problems.size());
     if (row.mismatches() > 0) verdict += " MISMATCH";
-    cells.push_back(verdict);
-    rows.push_back(cells);
+    build.push_back({row.spec, with_ratio(row.build_ms_median, ratio ? &embree_build : nullptr),
+                     megabytes(memory, embree_memory),
+                     fmt::format("{:.1f}", report.primitives ? memory / report.primitives : 0.0),
+                     megabytes(total, embree_total), verdict});
+    std::vector<std::string> speeds = {row.spec};
+    std::vector<std::string> costs = {row.spec};
+    for (std::size_t k = 0; k < row.kinds.size(); ++k) {
+      const double* reference = ratio && k < embree->kinds.size() ? &embree->kinds[k].mrays_s_median : nullptr;
+      speeds.push_back(with_ratio(row.kinds[k].mrays_s_median, reference));
+      if (is_packet_kind(row.kinds[k].kind)) continue;
+      costs.push_back(row.kinds[k].nodes_per_ray < 0.0
+                          ? std::string("n/a")
+                          : fmt::format("{:.1f}/{:.1f}", row.kinds[k].nodes_per_ray, row.kinds[k].prims_per_ray));
+    }
+    speed.push_back(speeds);
+    cost.push_back(costs);
   }
-  print_aligned(rows);
+  print_aligned(build);
+  if (speed.size() > 1 && speed.front().size() > 1) {
+    fmt::print("\n");
+    print_aligned(speed);
+  }
+  if (cost.size() > 1 && cost.front().size() > 1) {
+    fmt::print("\n");
+    print_aligned(cost);
+  }
   for (const auto& row : report.rows) {
     if (row.build_statistics.empty() || row.is_embree) continue;
     std::string line;

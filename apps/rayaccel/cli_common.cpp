@@ -1,13 +1,9 @@
 // Shared command-line helpers (see cli_common.h).
 #include "cli_common.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <utility>
 
 #include "rayaccel/accel/default_spec.h"
@@ -119,45 +115,6 @@ double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-void Progress::stage(const std::string& label) {
-  done();
-  label_ = label;
-  step_.clear();
-  last_percent_ = -1;
-  open_ = true;
-  if (isatty(fileno(stderr))) {
-    redraw();
-  } else {
-    std::cerr << label_ << "\n";
-  }
-}
-
-void Progress::step(const std::string& label) {
-  step_ = label;
-  last_percent_ = -1;
-  if (open_ && isatty(fileno(stderr))) redraw();
-}
-
-void Progress::update(float fraction) {
-  if (!open_ || !isatty(fileno(stderr))) return;
-  const int percent = static_cast<int>(std::clamp(fraction, 0.0f, 1.0f) * 100.0f);
-  if (percent == last_percent_) return;
-  last_percent_ = percent;
-  redraw();
-}
-
-void Progress::redraw() const {
-  std::cerr << "\r\033[K" << label_;
-  if (!step_.empty()) std::cerr << ": " << step_;
-  if (last_percent_ >= 0) std::cerr << " " << last_percent_ << "%";
-  std::cerr << std::flush;
-}
-
-void Progress::done() {
-  if (open_ && isatty(fileno(stderr))) std::cerr << "\r\033[K" << std::flush;
-  open_ = false;
 }
 
 bool is_builtin(std::string_view spec) { return spec.rfind("builtin:", 0) == 0; }

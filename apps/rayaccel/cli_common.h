@@ -1,5 +1,5 @@
 // Helpers every subcommand shares: usage errors, argument parsing (vectors, resolutions), thread limits, timing,
-// a stderr progress line, scene/camera/accelerator setup and JSON output.
+// the stderr progress line (progress.h), scene/camera/accelerator setup and JSON output.
 #pragma once
 
 #include <tbb/global_control.h>
@@ -19,6 +19,7 @@
 #include "rayaccel/scene/scene.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/heatmap.h"
+#include "progress.h"
 
 namespace rayaccel::cli {
 
@@ -73,27 +74,6 @@ class Stopwatch {
 };
 
 double median(std::vector<double> values);
-
-/// A one-line progress display on stderr. On a terminal it is redrawn in place with the current step and
-/// percentage; otherwise each stage prints one line and steps and percentages are not shown.
-class Progress {
- public:
-  /// Starts a stage (a line of its own when stderr is not a terminal).
-  void stage(const std::string& label);
-  /// A step within the current stage; shown only on a terminal.
-  void step(const std::string& label);
-  void update(float fraction);
-  /// Ends the current line.
-  void done();
-
- private:
-  void redraw() const;
-
-  std::string label_;
-  std::string step_;
-  int last_percent_ = -1;
-  bool open_ = false;
-};
 
 /// True for a "builtin:..." scene spec.
 bool is_builtin(std::string_view spec);

@@ -8,9 +8,15 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "rayaccel/version.h"
+#ifdef RAYACCEL_HAVE_EMBREE
+#include "rayaccel/compare/embree_accelerator.h"
+#endif
 
 int main(int argc, char** argv) {
   using namespace rayaccel::cli;
+#ifdef RAYACCEL_HAVE_EMBREE
+  rayaccel::enable_embree_comparison();  // "embree" for --compare and --accel, before anything reads the registry
+#endif
   CLI::App app{"rayaccel: ray-tracing acceleration structures behind one API, traced, rendered and benchmarked"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("rayaccel ") + RAYACCEL_VERSION_STRING);

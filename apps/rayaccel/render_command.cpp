@@ -191,8 +191,8 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   } else {
     try {
       mode = parse_shading_mode(args.mode);
-    } catch (const Error& e) {
-      throw UsageError(std::string("--mode: ") + e.what() + " or whitted");
+    } catch (const Error&) {
+      throw UsageError("--mode: unknown mode '" + args.mode + "' (known: normals, ao, heatmap, whitted)");
     }
   }
   // Parse every camera value before loading anything, so a typo fails fast.

@@ -1,9 +1,12 @@
 // Registry lookup, spec parsing, option validation, and loading a saved structure of any registered format.
 #include "rayaccel/accel/registry.h"
 
+#include <algorithm>
 #include <fstream>
+#include <mutex>
 #include <string>
 
+#include "rayaccel/accel/registry_extension.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/number_text.h"
 
@@ -59,10 +62,41 @@ bool OptionValues::get_bool(const std::string& key) const {
   return *v;
 }
 
+namespace {
+
+/// Hooks of add_registry_hook(); `sealed` once the registry is built.
+struct RegistryHooks {
+  std::mutex mutex;
+  std::vector<RegistryHook> hooks;
+  bool sealed = false;
+};
+
+RegistryHooks& registry_hooks() {
+  static RegistryHooks hooks;
+  return hooks;
+}
+
+}  // namespace
+
+void add_registry_hook(RegistryHook hook) {
+  RegistryHooks& h = registry_hooks();
+  const std::lock_guard lock(h.mutex);
+  if (std::find(h.hooks.begin(), h.hooks.end(), hook) != h.hooks.end()) return;
+  if (h.sealed) {
+    throw Error("add_registry_hook: the accelerator registry is already in use; add structures before anything "
+                "uses it (first thing in main)");
+  }
+  h.hooks.push_back(hook);
+}
+
 const std::vector<AcceleratorInfo>& accelerator_registry() {
   static const std::vector<AcceleratorInfo> registry = [] {
     std::vector<AcceleratorInfo> r;
     register_builtin_accelerators(r);
+    RegistryHooks& h = registry_hooks();
+    const std::lock_guard lock(h.mutex);
+    h.sealed = true;
+    for (const RegistryHook hook : h.hooks) hook(r);
     return r;
   }();
   return registry;

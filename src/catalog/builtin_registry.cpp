@@ -8,7 +8,6 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/accel/two_level_grid.h"
 #include "rayaccel/accel/uniform_grid.h"
-#include "rayaccel/compare/embree_accelerator.h"
 #include "rayaccel/wide/wide_bvh_registry.h"
 #include "rayaccel/bvh/bvh_registry.h"
 
@@ -23,7 +22,7 @@ void register_builtin_accelerators(std::vector<AcceleratorInfo>& registry) {
   register_bsp_tree(registry);
   register_bvh(registry);
   wide::register_wide_bvh(registry);
-  register_embree(registry);  // a comparison entry, where Embree was found at build time
+  // "embree", a comparison entry, is added by rayaccel::compare (enable_embree_comparison()), not here.
 }
 
 std::string default_accelerator_spec() { return "bvh_wide"; }  // the wide SIMD BVH

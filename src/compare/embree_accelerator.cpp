@@ -2,6 +2,8 @@
 // rays mapped to RTCRay with tnear just above t_min so Embree's [tnear, tfar] matches (t_min, t_max].
 #include "rayaccel/compare/embree_accelerator.h"
 
+#include "rayaccel/accel/registry_extension.h"
+
 #ifdef RAYACCEL_HAVE_EMBREE
 
 #include <embree3/rtcore.h>
@@ -379,3 +381,9 @@ void register_embree(std::vector<AcceleratorInfo>&) {}
 }  // namespace rayaccel
 
 #endif  // RAYACCEL_HAVE_EMBREE
+
+namespace rayaccel {
+
+void enable_embree_comparison() { add_registry_hook(register_embree); }
+
+}  // namespace rayaccel

@@ -9,6 +9,8 @@
 
 #include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/accel/registry_extension.h"
+#include "rayaccel/compare/embree_accelerator.h"
 #include "rayaccel/core/error.h"
 #include "../error_message.h"
 
@@ -153,6 +155,27 @@ TEST(RegistryContents, EveryDefaultIsAValidValue) {
       }
     }
   }
+}
+
+/// A structure added from outside the library, too late.
+void register_late(std::vector<AcceleratorInfo>& registry) {
+  AcceleratorInfo info;
+  info.name = "late";
+  registry.push_back(std::move(info));
+}
+
+TEST(Registry, HooksCloseOnceTheRegistryIsInUse) {
+  ASSERT_FALSE(accelerator_registry().empty());
+  const std::string message = error_message([] { add_registry_hook(register_late); });
+  EXPECT_TRUE(contains(message, "already in use")) << message;
+  EXPECT_FALSE(has_accelerator("late"));
+#ifdef RAYACCEL_HAVE_EMBREE
+  // The test binary adds "embree" before main (tests/compare/embree_registration.cpp), as the CLI does first thing.
+  EXPECT_NO_THROW(enable_embree_comparison()) << "adding a hook already added does nothing";
+  EXPECT_TRUE(has_accelerator("embree"));
+#else
+  EXPECT_FALSE(has_accelerator("embree"));
+#endif
 }
 
 }  // namespace

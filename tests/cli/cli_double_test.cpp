@@ -12,6 +12,7 @@
 
 #include "../double/double_test_rays.h"
 #include "cli_runner.h"
+#include "small_case.h"
 #include "rayaccel/double/double_accelerator.h"
 #include "rayaccel/double/double_scene.h"
 #include "rayaccel/scene/builtin_scenes.h"
@@ -22,25 +23,8 @@ namespace {
 
 using testing::fresh_directory;
 using testing::last_nonempty_line;
+using testing::write_ply;
 using testing::run_cli;
-
-/// Writes a binary little-endian PLY of `mesh` with vertex coordinates of the given PLY type ("float" or "double").
-template <class Mesh>
-void write_ply(const std::filesystem::path& path, const Mesh& mesh, const char* type) {
-  std::ofstream out(path, std::ios::binary);
-  out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.vertices.size() << "\nproperty " << type
-      << " x\nproperty " << type << " y\nproperty " << type << " z\nelement face " << mesh.triangles.size()
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& v : mesh.vertices) out.write(reinterpret_cast<const char*>(&v), sizeof(v));
-  for (const auto& t : mesh.triangles) {
-    const unsigned char three = 3;
-    out.write(reinterpret_cast<const char*>(&three), 1);
-    for (std::uint32_t i : t) {
-      const std::int32_t index = static_cast<std::int32_t>(i);
-      out.write(reinterpret_cast<const char*>(&index), sizeof(index));
-    }
-  }
-}
 
 TriangleMesh sphere_mesh() { return make_builtin_scene("sphere", {{"level", "3"}, {"radius", "10"}}).mesh(); }
 

@@ -1,5 +1,5 @@
 // EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface for benchmark comparisons only (the registry's
-// "embree" comparison entry, where RAYACCEL_HAVE_EMBREE is defined).
+// "embree" comparison entry), in the rayaccel::compare target, which alone defines RAYACCEL_HAVE_EMBREE.
 #pragma once
 
 #include <vector>
@@ -12,10 +12,13 @@ namespace rayaccel {
 // "embree" (options quality, robust, threads) but marked a comparison entry, so it is not among the variants the
 // conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time
 // (intersect_packets, occluded_packets: rtcIntersect8, rtcOccluded8 eight at a time) inside the same TBB batch loop
-// every structure uses, so timings compare like with like. Available only when RAYACCEL_HAVE_EMBREE is defined.
+// every structure uses, so timings compare like with like.
 
 /// Adds "embree" (a comparison entry) where Embree was found at build time; nothing otherwise.
 void register_embree(std::vector<AcceleratorInfo>& registry);
+/// Makes "embree" a registry entry in a program that links rayaccel::compare: call before anything uses the
+/// registry (add_registry_hook()).
+void enable_embree_comparison();
 
 }  // namespace rayaccel
 
