@@ -9,6 +9,7 @@
 #include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/number_text.h"
+#include "rayaccel/render/image_limits.h"
 #include "rayaccel/scene/import.h"
 
 namespace rayaccel::cli {
@@ -61,10 +62,9 @@ std::pair<int, int> parse_resolution(std::string_view text, std::string_view wha
   int w = 0, h = 0;
   const bool ok = x == std::string_view::npos ? (parse_int(text, w) && (h = w, true))
                                               : (parse_int(text.substr(0, x), w) && parse_int(text.substr(x + 1), h));
-  constexpr int kMax = 16384;
-  if (!ok || w < 1 || h < 1 || w > kMax || h > kMax) {
+  if (!ok || w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide) {
     throw UsageError(std::string(what) + ": '" + std::string(text) + "' is not a resolution WxH with 1 <= W, H <= " +
-                     std::to_string(kMax));
+                     std::to_string(kMaxImageSide));
   }
   return {w, h};
 }

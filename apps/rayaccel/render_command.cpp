@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "rayaccel/core/output_batch.h"
 #include "rayaccel/generalized/generalized_rays.h"
 #include "rayaccel/render/cone_effects.h"
 #include "rayaccel/render/image_compare.h"
@@ -73,7 +74,6 @@ void render_cone_mode(const RenderArgs& args, const Accelerator& accel, const Sc
   settings.light_radius_fraction = args.cone_light_radius;
   progress.stage(fmt::format("rendering {}x{} cone {}", width, height, args.cones));
   const ConeEffectResult result = render_cone_effect(accel, scene, camera, settings);
-  result.image.save_png(args.out);
   progress.done();
   const double pixels = static_cast<double>(width) * height;
   std::string error_text;
@@ -81,6 +81,9 @@ void render_cone_mode(const RenderArgs& args, const Accelerator& accel, const Sc
     const ImageError e = compare_images(result.image, load_png(args.reference));
     error_text = fmt::format(", RMSE {:.3f}, PSNR {:.2f} dB against {}", e.rmse, e.psnr, args.reference);
   }
+  OutputBatch outputs;
+  result.image.save_png(outputs.stage(args.out));
+  outputs.commit();
   fmt::print("wrote {} ({}x{}, cones {}, {}): {} {} in {:.2f} ms; per pixel {:.2f} node visits, {:.2f} primitive "
              "tests{}\n",
              args.out, width, height, args.cones,
@@ -135,8 +138,6 @@ void render_whitted_mode(const RenderArgs& args, const WhittedArgs& w, const Acc
   progress.stage(fmt::format("rendering {}x{} whitted, --aa {}", width, height, args.aa));
   const WhittedResult result = render_whitted(accel, scene, camera, width, height, materials, lights, settings, w.aa,
                                               [&progress](float f) { progress.update(f); });
-  result.image.save_png(args.out);
-  if (!args.spp_map.empty()) samples_per_pixel_image(result.samples).save_png(args.spp_map);
   progress.done();
   const RayCounts& c = result.counts;
   const double pixels = static_cast<double>(width) * height;
@@ -166,11 +167,47 @@ void render_whitted_mode(const RenderArgs& args, const WhittedArgs& w, const Acc
     report["psnr_db"] = std::isinf(e.psnr) ? nlohmann::json("inf") : nlohmann::json(e.psnr);
     error_text = fmt::format(", RMSE {:.3f}, PSNR {:.2f} dB against {}", e.rmse, e.psnr, args.reference);
   }
+  // Every output written, then committed together: a failure of any leaves all of them as they were.
+  OutputBatch outputs;
+  result.image.save_png(outputs.stage(args.out));
+  if (!args.spp_map.empty()) samples_per_pixel_image(result.samples).save_png(outputs.stage(args.spp_map));
+  if (!args.json.empty()) write_file_atomically(outputs.stage(args.json), report.dump(2) + "\n", "JSON file");
+  outputs.commit();
   fmt::print("wrote {} ({}x{}, whitted, {}): build {:.2f} ms, render {:.2f} ms; rays: {} camera, {} shadow, {} "
              "reflection, {} refraction ({:.2f} per pixel); {} nodes visited, {} primitive tests{}\n",
              args.out, width, height, accel.spec(), build_ms, result.milliseconds, c.camera, c.shadow, c.reflection,
              c.refraction, static_cast<double>(c.total()) / pixels, c.nodes_visited, c.primitives_tested, error_text);
-  if (!args.json.empty()) write_file_atomically(args.json, report.dump(2) + "\n", "JSON file");
+}
+
+/// A bad --reference (unreadable, or not the size of the image) fails before the work.
+void check_reference(const std::string& reference, int width, int height) {
+  if (reference.empty()) return;
+  const Image image = load_png(reference);
+  if (image.width != width || image.height != height) {
+    throw UsageError(fmt::format("--reference: {} is {}x{}, but the image is {}x{} (--res)", reference, image.width,
+                                 image.height, width, height));
+  }
+}
+
+/// Refuses a camera with no view direction or an up along it, saying which values made it: the options given, or
+/// the default camera (which a scene too small for float cannot give a position apart from what it looks at).
+void check_camera(const Camera& camera, bool eye_given, bool at_given, bool up_given, const Scene& scene) {
+  if (length(camera.at - camera.eye) == 0.0f) {
+    if (eye_given && at_given) throw UsageError("--eye and --at are the same point");
+    if (eye_given || at_given) {
+      throw UsageError(std::string(eye_given ? "--eye" : "--at") + " is the point the default camera " +
+                       (eye_given ? "looks at" : "stands at") + "; give " + (eye_given ? "--at" : "--eye") + " too");
+    }
+    const Vec3 extent = scene.bounds().extent();
+    throw UsageError(fmt::format("the default camera cannot frame this scene: it is {:g} x {:g} x {:g} across, too "
+                                 "small for a camera position apart from its centre in float; give --eye and --at",
+                                 extent.x, extent.y, extent.z));
+  }
+  if (length(cross(camera.at - camera.eye, camera.up)) == 0.0f) {
+    throw UsageError(up_given ? "--up is parallel to the view direction"
+                              : fmt::format("the default up ({:g},{:g},{:g}) is parallel to the view direction; give "
+                                            "--up", camera.up.x, camera.up.y, camera.up.z));
+  }
 }
 
 int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool heat_max_given) {
@@ -187,7 +224,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   WhittedArgs whitted_args;
   if (whitted) {
     whitted_args = parse_whitted_args(args);
-    if (!args.reference.empty()) load_png(args.reference);  // a bad reference fails before the work
+    check_reference(args.reference, width, height);
   } else {
     try {
       mode = parse_shading_mode(args.mode);
@@ -219,7 +256,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     if (!(args.cone_light_radius > 0.0f && args.cone_light_radius <= 1.0f)) {
       throw UsageError(fmt::format("--cone-light-radius: {} is not in (0, 1]", args.cone_light_radius));
     }
-    if (!args.reference.empty()) load_png(args.reference);  // a bad reference fails before the work
+    check_reference(args.reference, width, height);
   }
   check_output_path(args.out, "PNG");
   if (whitted && !args.json.empty()) check_output_path(args.json, "JSON file");
@@ -234,8 +271,7 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   if (at) camera.at = *at;
   if (up) camera.up = *up;
   if (fov_given) camera.fov_degrees = args.fov;
-  if (length(camera.at - camera.eye) == 0.0f) throw UsageError("--eye and --at are the same point");
-  if (length(cross(camera.at - camera.eye, camera.up)) == 0.0f) throw UsageError("--up is parallel to the view direction");
+  check_camera(camera, eye.has_value(), at.has_value(), up.has_value(), scene);
 
   progress.stage("building " + spec);
   auto accel = make_structure(spec, ThreadLimit::active());
@@ -299,7 +335,9 @@ Command add_render_command(CLI::App& root) {
   app->add_option("scene", args->scene, "Mesh file or builtin:NAME[:key=value,...]")->required();
   app->add_option("--accel", args->accel,
                   "Structure spec NAME[:key=value,...]; default " + default_accelerator_spec());
-  app->add_option("--eye", args->eye, "Camera position x,y,z (default: the scene's standard camera)");
+  app->add_option("--eye", args->eye,
+                  "Camera position x,y,z (default: for a mesh file, its camera in the ```cameras block of a "
+                  "MANIFEST.md beside it, which render reads when present; else one framing the scene)");
   app->add_option("--at", args->at, "Point looked at x,y,z");
   app->add_option("--up", args->up, "Up hint x,y,z");
   CLI::Option* fov = app->add_option("--fov", args->fov, "Full vertical field of view in degrees");

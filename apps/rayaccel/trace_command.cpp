@@ -16,6 +16,7 @@
 #include "trace_passes.h"
 #include "trace_instanced.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/core/output_batch.h"
 #include "rayaccel/scene/ray_io.h"
 
 namespace rayaccel::cli {
@@ -108,10 +109,12 @@ int run_trace(const TraceArgs& args, bool threads_given) {
       build_ms.push_back(clock.milliseconds());
     }
   }
-  if (!args.save.empty()) accel->save(args.save);
+  // --save and --out are written, then committed together: a failure of either leaves both as they were.
+  OutputBatch outputs;
+  if (!args.save.empty()) accel->save(outputs.stage(args.save));
 
   const TracePasses passes = run_trace_passes<Hit>(
-      rays.size(), args.occlusion, args.repeat, args.out,
+      rays.size(), args.occlusion, args.repeat, args.out.empty() ? std::string() : outputs.stage(args.out).string(),
       [&](std::span<Hit> hits) {
         if (args.packets) {
           accel->intersect_packets(rays, hits);
@@ -148,6 +151,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
     summary["loaded_from"] = args.load;
     summary["load_ms"] = load_ms;
   }
+  outputs.commit();
   if (!args.save.empty()) summary["saved_to"] = args.save;
   if (!args.out.empty()) summary["out"] = args.out;
   fmt::print("{}\n", summary.dump());

@@ -15,6 +15,7 @@
 #include "bindings.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/colormap.h"
+#include "rayaccel/render/image_limits.h"
 #include "rayaccel/render/renderer.h"
 #include "rayaccel/render/workloads.h"
 
@@ -38,6 +39,10 @@ Camera make_camera(const std::array<float, 3>& eye, const std::array<float, 3>& 
 void check_size(int width, int height) {
   if (width <= 0 || height <= 0) {
     throw ValueError("image size must be positive, not " + std::to_string(width) + " x " + std::to_string(height));
+  }
+  if (width > kMaxImageSide || height > kMaxImageSide) {
+    throw ValueError("image size " + std::to_string(width) + " x " + std::to_string(height) + " is too large: " +
+                     "width and height must be at most " + std::to_string(kMaxImageSide));
   }
 }
 

@@ -135,6 +135,11 @@ def test_bad_camera_and_render(accel):
         rayaccel.Camera().rays(0, 10)
     with pytest.raises(ValueError, match="eye and at are the same point"):
         rayaccel.Camera(eye=(1, 1, 1), at=(1, 1, 1)).rays(4, 4)
+    # Beyond the CLI's limit (16384 a side): a ValueError before anything is allocated, not MemoryError.
+    with pytest.raises(ValueError, match="100000 x 100000 is too large.*at most 16384"):
+        rayaccel.Camera().rays(100000, 100000)
+    with pytest.raises(ValueError, match="16385 x 1 is too large"):
+        rayaccel.render(accel, width=16385, height=1)
     with pytest.raises(ValueError, match="fov"):
         rayaccel.Camera(fov=180).rays(4, 4)
     with pytest.raises(ValueError, match="eye must be three finite numbers"):

@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <limits>
+#include <tuple>
 
 #include "rayaccel/bvh/morton.h"
 
@@ -29,18 +31,24 @@ std::vector<Cluster> cluster(const PrimRefs& refs, std::uint32_t radius) {
   nodes.reserve(2 * refs.size());
   while (active.size() > 1) {
     const auto n = static_cast<std::uint32_t>(active.size());
-    // Distances compared with index tie-breaks form a strict total order on pairs, so the closest pair is mutual
-    // and every round merges at least once.
+    // Each i picks the j whose pair {i, j} is least by (distance, |i - j|, min(i, j) odd, min(i, j)): a strict
+    // total order on pairs, so the least pair is mutual and every round merges at least once. On equal distances
+    // (coincident primitives) each i prefers a neighbour, and of the two the one pairing (0, 1), (2, 3), ...: a
+    // round then halves them instead of merging one pair (which made 50,000 copies of a triangle quadratic).
     tbb::parallel_for(std::uint32_t{0}, n, [&](std::uint32_t i) {
       const AABB& box = nodes[active[i]].box;
       const std::uint32_t lo = i > radius ? i - radius : 0, hi = std::min(n - 1, i + radius);
       float best = std::numeric_limits<float>::infinity();
       std::uint32_t best_j = i == 0 ? 1 : i - 1;
       bool first = true;
+      const auto tie_key = [i](std::uint32_t j) {
+        const std::uint32_t low = std::min(i, j);
+        return std::tuple(i > j ? i - j : j - i, low & 1u, low);
+      };
       for (std::uint32_t j = lo; j <= hi; ++j) {
         if (j == i) continue;
         const float d = merge(box, nodes[active[j]].box).surface_area();
-        if (first || d < best) {  // scanning j upward keeps the lowest index on ties
+        if (first || d < best || (d == best && tie_key(j) < tie_key(best_j))) {
           best = d;
           best_j = j;
           first = false;

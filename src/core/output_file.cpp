@@ -1,4 +1,5 @@
-// Whole-or-nothing output files (see output_file.h): POSIX open/write/fsync/rename, each call checked.
+// Whole-or-nothing output files (see output_file.h) and batches of them (output_batch.h): POSIX
+// open/write/fsync/rename, each call checked.
 #include "rayaccel/core/output_file.h"
 
 #include <fcntl.h>
@@ -9,6 +10,7 @@
 #include <random>
 
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/output_batch.h"
 
 namespace rayaccel {
 
@@ -126,6 +128,30 @@ void write_file_atomically(const std::filesystem::path& path, std::span<const st
     ::unlink(temp.c_str());
     throw Error(describe(what, path) + ": rename failed: " + std::strerror(saved));
   }
+}
+
+OutputBatch::~OutputBatch() {
+  for (const auto& [temp, target] : staged_) {
+    if (temp != target) ::unlink(temp.c_str());
+  }
+}
+
+std::filesystem::path OutputBatch::stage(const std::filesystem::path& target) {
+  std::error_code ec;
+  const bool in_place = std::filesystem::exists(target, ec) && !std::filesystem::is_regular_file(target, ec);
+  staged_.emplace_back(in_place ? target : temporary_beside(target), target);
+  return staged_.back().first;
+}
+
+void OutputBatch::commit() {
+  for (const auto& [temp, target] : staged_) {
+    if (temp == target) continue;
+    if (::rename(temp.c_str(), target.c_str()) != 0) {
+      throw Error("cannot write '" + target.string() + "': rename of '" + temp.string() + "' failed: " +
+                  std::strerror(errno));
+    }
+  }
+  staged_.clear();
 }
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view text, std::string_view what) {

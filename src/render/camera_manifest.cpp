@@ -1,5 +1,6 @@
 // Standard cameras: the ```cameras block of the MANIFEST.md that sits beside the shared scene files.
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -15,6 +16,9 @@
 namespace rayaccel {
 
 namespace {
+
+/// MANIFEST.md is read only up to this size.
+constexpr std::uintmax_t kMaxManifestBytes = std::uintmax_t{1} << 20;
 
 float parse_float(std::string_view text, const std::string& where) {
   float value = 0.0f;
@@ -64,17 +68,35 @@ std::pair<std::string, Camera> parse_camera_line(const std::string& line, const 
   if (!(cam.fov_degrees > 0.0f && cam.fov_degrees < 180.0f)) {
     throw Error(where + ": fov=" + values["fov"] + " is outside (0, 180) degrees");
   }
-  if (cam.eye == cam.at) throw Error(where + ": eye and at are the same point");
+  if (length(cam.at - cam.eye) == 0.0f) throw Error(where + ": eye and at are the same point");
   if (cam.up == Vec3{}) throw Error(where + ": up is the zero vector");
+  if (length(cross(cam.at - cam.eye, cam.up)) == 0.0f) {
+    throw Error(where + ": up=" + values["up"] + " is parallel to the view direction (from eye to at)");
+  }
   return {name, cam};
 }
 
 }  // namespace
 
+// Beyond camera.h's list: an up parallel to the view is a malformed line too, and a manifest that is not a regular
+// file (after symbolic links) or is over kMaxManifestBytes throws Error naming it, unread.
 std::optional<Camera> standard_camera(const std::filesystem::path& scene_file) {
   const std::filesystem::path manifest = scene_file.parent_path() / "MANIFEST.md";
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(manifest, ec);  // follows symbolic links
+  if (!std::filesystem::exists(status)) return std::nullopt;
+  // A side file the user did not name: only a regular file of sane size is read (a FIFO would block, /dev/zero
+  // never end).
+  if (!std::filesystem::is_regular_file(status)) {
+    throw Error(manifest.string() + " (read for the scene's standard camera) is not a regular file");
+  }
+  const std::uintmax_t size = std::filesystem::file_size(manifest, ec);
+  if (ec || size > kMaxManifestBytes) {
+    throw Error(manifest.string() + " (read for the scene's standard camera) is larger than " +
+                std::to_string(kMaxManifestBytes >> 20) + " MiB");
+  }
   std::ifstream in(manifest);
-  if (!in) return std::nullopt;
+  if (!in) throw Error("cannot open " + manifest.string() + " (read for the scene's standard camera)");
   const std::string stem = scene_file.stem().string();
   std::optional<Camera> found;
   bool in_block = false, saw_block = false;

@@ -1,8 +1,9 @@
-// Mesh import: PLY files through our own reader (ply_reader.h), every other format through assimp with no
-// post-processing (ids stay in file order; polygons are fan-triangulated here). Built only with
-// RAYACCEL_WITH_ASSIMP=ON; import_without_assimp.cpp takes its place otherwise.
+// Mesh import: PLY files through our own reader (ply_reader.h), every other format through assimp (its PLY loader
+// removed; glTF node graphs checked first, gltf_depth.h) with no post-processing (ids stay in file order; polygons are
+// fan-triangulated here). Built only with RAYACCEL_WITH_ASSIMP=ON; import_without_assimp.cpp takes its place otherwise.
 #include "rayaccel/scene/import.h"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -17,6 +18,7 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/quoted_path.h"
 #include "rayaccel/scene/ply_reader.h"
+#include "gltf_depth.h"
 
 namespace rayaccel {
 
@@ -85,6 +87,12 @@ void append_node(TriangleMesh& out, const aiScene& scene, const aiNode& node, co
 /// JoinIdenticalVertices or FindDegenerates would reorder, split, weld or drop faces and break "primitive id =
 /// triangle index in file order".
 const aiScene& read_with_assimp(Assimp::Importer& importer, const std::filesystem::path& path) {
+  gltf::check_node_depth(path);
+  // Whatever assimp takes for a PLY (it looks for "ply" in the first 200 bytes) must not reach its PLY loader, which
+  // loops forever on a header cut short; our reader has seen every file that is one.
+  if (Assimp::BaseImporter* ply = importer.GetImporter("ply")) {
+    if (importer.UnregisterLoader(ply) == aiReturn_SUCCESS) delete ply;
+  }
   const aiScene* scene = nullptr;
   try {
     scene = importer.ReadFile(path.string(), 0);
@@ -117,9 +125,9 @@ void place_node(MeshHierarchy& out, const std::vector<std::int64_t>& kept, const
 }  // namespace
 
 TriangleMesh import_mesh(const std::filesystem::path& path) {
-  // PLY, recognised by its first line whatever the file is called, never reaches assimp: its PLY reader loops
-  // forever on a file that ends inside its header and accepts files with fewer elements than they declare.
-  if (looks_like_ply(check_readable(path))) {
+  // PLY (reads_as_ply) never reaches assimp: its PLY reader loops forever on a file that ends inside its header and
+  // accepts files with fewer elements than they declare.
+  if (reads_as_ply(path, check_readable(path))) {
     TriangleMesh mesh = read_ply(path);
     if (mesh.triangles.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
     return mesh;
@@ -138,7 +146,7 @@ TriangleMesh import_mesh(const std::filesystem::path& path) {
 
 MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path) {
   MeshHierarchy out;
-  if (looks_like_ply(check_readable(path))) {
+  if (reads_as_ply(path, check_readable(path))) {
     out.meshes.push_back(import_mesh(path));
     out.placements.push_back({});
     return out;

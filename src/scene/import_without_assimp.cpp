@@ -1,10 +1,10 @@
 // Mesh import in a build without assimp (RAYACCEL_WITH_ASSIMP=OFF): PLY files through our own reader
 // (ply_reader.h); every other file is refused with the reason.
-#include <cctype>
 #include <string>
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/scene/import.h"
+#include "rayaccel/scene/file_extension.h"
 #include "rayaccel/scene/ply_reader.h"
 
 namespace rayaccel {
@@ -27,9 +27,7 @@ MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path) {
 }
 
 TriangleMesh import_mesh(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".ply") {
+  if (lowercase_extension(path) == ".ply") {
     TriangleMesh mesh = read_ply(path);
     if (mesh.triangles.empty()) throw Error("mesh file '" + path.string() + "' has no triangles");
     return mesh;

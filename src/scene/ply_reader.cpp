@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -23,6 +24,7 @@
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/mesh_d.h"
+#include "rayaccel/scene/file_extension.h"
 
 namespace rayaccel {
 
@@ -168,6 +170,10 @@ class PlyParser {
     for (;;) {
       const std::size_t end = text_.find('\n', pos);
       if (end == std::string_view::npos) {
+        if (text_.substr(pos).find('\r') != std::string_view::npos) {
+          fail("header line " + std::to_string(line + 1) + " ends in a bare CR (old Mac line endings); PLY lines end "
+               "in LF or CR LF");
+        }
         fail(text_.empty() ? "empty file"
                            : "the file ends inside its header (after line " + std::to_string(line) +
                                  ", no end_header)");
@@ -472,7 +478,15 @@ std::vector<std::byte> read_ply_bytes(const std::filesystem::path& path) {
 
 bool looks_like_ply(std::span<const std::byte> bytes) {
   const std::string_view t = as_text(bytes);
-  return t.starts_with("ply\n") || t.starts_with("ply\r\n");
+  if (t.size() < 3) return false;
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (std::tolower(static_cast<unsigned char>(t[i])) != "ply"[i]) return false;
+  }
+  return t.size() == 3 || std::isspace(static_cast<unsigned char>(t[3]));
+}
+
+bool reads_as_ply(const std::filesystem::path& path, std::span<const std::byte> first_bytes) {
+  return looks_like_ply(first_bytes) || lowercase_extension(path) == ".ply";
 }
 
 TriangleMesh parse_ply(std::span<const std::byte> bytes, const std::string& name) {

@@ -19,6 +19,7 @@
 #include "rayaccel/core/quoted_path.h"
 #include "rayaccel/core/ray_d.h"
 #include "rayaccel/core/output_file.h"
+#include "rayaccel/scene/file_extension.h"
 
 namespace rayaccel {
 
@@ -104,9 +105,26 @@ void write_records(const std::filesystem::path& path, std::span<const T> records
   write_file_atomically(path, bytes, std::string(what) + " file");
 }
 
+/// Refuses a ray file whose extension names the other precision: a .rays file of an even number of records has a
+/// size .rays64 accepts, and the other way round, so the size alone cannot tell them apart.
+void check_ray_extension(const std::filesystem::path& path, const char* other, const char* reader) {
+  if (lowercase_extension(path) == other) {
+    std::string message = "ray file '";  // appended piece by piece (GCC 12 warns, wrongly, about "..." + string&&)
+    message += path.string();
+    message += "' is a ";
+    message += other;
+    message += " file by its name; ";
+    message += reader;
+    throw Error(message);
+  }
+}
+
 }  // namespace
 
-std::vector<Ray> read_rays(const std::filesystem::path& path) { return read_records<Ray>(path, "ray"); }
+std::vector<Ray> read_rays(const std::filesystem::path& path) {
+  check_ray_extension(path, ".rays64", "float rays are .rays (trace it with --precision double)");
+  return read_records<Ray>(path, "ray");
+}
 
 void write_rays(const std::filesystem::path& path, std::span<const Ray> rays) {
   write_records<Ray>(path, rays, "ray");
@@ -151,7 +169,10 @@ void write_counts(const std::filesystem::path& path, std::span<const std::uint32
   write_records<std::uint32_t>(path, counts, "count");
 }
 
-std::vector<RayD> read_rays_d(const std::filesystem::path& path) { return read_records<RayD, 8>(path, "ray"); }
+std::vector<RayD> read_rays_d(const std::filesystem::path& path) {
+  check_ray_extension(path, ".rays", "double rays are .rays64 (trace .rays files without --precision double)");
+  return read_records<RayD, 8>(path, "ray");
+}
 
 void write_rays_d(const std::filesystem::path& path, std::span<const RayD> rays) {
   write_records<RayD, 8>(path, rays, "ray");

@@ -166,12 +166,21 @@ TEST(CliTraceDouble, UnsupportedOptionsAndBadInputsAreRefusedByName) {
   expect_refused({"--offset", "1,2"}, 2, {"--offset", "'1,2'"});
   expect_refused({"--offset", "1,nan,2"}, 2, {"--offset"});
 
-  // A float .rays file of three rays (96 bytes) is not a .rays64 file.
-  write_rays(dir / "float.rays", std::vector<Ray>(3));
+  // A float .rays file is not a .rays64 file, even when its size is a multiple of 64 bytes (four rays), which was
+  // read as two double rays of garbage; nor the other way round. The extension decides.
+  write_rays(dir / "float.rays", std::vector<Ray>(4));
   const auto float_rays = run_cli({"trace", scene, (dir / "float.rays").string(), "--precision", "double"});
   EXPECT_EQ(float_rays.exit_code, 1);
-  EXPECT_NE(float_rays.err.find("float.rays' has 96 bytes, not a multiple of the 64-byte record"), std::string::npos)
-      << float_rays.err;
+  EXPECT_NE(float_rays.err.find("float.rays' is a .rays file by its name"), std::string::npos) << float_rays.err;
+  const auto double_rays = run_cli({"trace", scene, rays});
+  EXPECT_EQ(double_rays.exit_code, 1);
+  EXPECT_NE(double_rays.err.find(".rays64' is a .rays64 file by its name"), std::string::npos) << double_rays.err;
+  // Other names are read in the layout --precision says, their size checked.
+  write_rays(dir / "float.bin", std::vector<Ray>(3));
+  const auto other = run_cli({"trace", scene, (dir / "float.bin").string(), "--precision", "double"});
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("float.bin' has 96 bytes, not a multiple of the 64-byte record"), std::string::npos)
+      << other.err;
   // A vertex outside the double domain is named.
   TriangleMeshD huge = mesh;
   huge.vertices[5].y = 1e300;

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_runner.h"
-#include "rayaccel/scene/ray_io.h"
 #include "../test_paths.h"
 
 namespace rayaccel {
@@ -17,25 +17,11 @@ namespace {
 
 using testing::CommandResult;
 using testing::fresh_directory;
+using testing::some_rays;
 
 constexpr const char* kScene = "builtin:sphere:level=1";
 
-/// The CLI with `args`, killed after 60 s (exit code 124 then).
-CommandResult run_bounded(std::vector<std::string> args) {
-  args.insert(args.begin(), {"60", testing::cli_path()});
-  return testing::run_program("timeout", args);
-}
-
-std::filesystem::path some_rays(const std::filesystem::path& dir) {
-  std::vector<Ray> rays(64);
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    rays[i].origin = {0.01f * float(i), 0.0f, -5.0f};
-    rays[i].direction = {0.0f, 0.0f, 1.0f};
-  }
-  const auto file = dir / "few.rays";
-  write_rays(file, rays);
-  return file;
-}
+CommandResult run_bounded(std::vector<std::string> args) { return testing::run_cli_bounded(std::move(args)); }
 
 TEST(CliHostile, DeviceAsRayFileIsRefusedNotReadForever) {
   if (!std::filesystem::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";

@@ -8,6 +8,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <vector>
+
+#include "rayaccel/scene/ray_io.h"
 #include "../test_paths.h"
 
 namespace rayaccel::testing {
@@ -34,6 +37,22 @@ std::string read_file(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+CommandResult run_cli_bounded(std::vector<std::string> args, int seconds) {
+  args.insert(args.begin(), {std::to_string(seconds), cli_path()});
+  return run_program("timeout", args);
+}
+
+std::filesystem::path some_rays(const std::filesystem::path& dir) {
+  std::vector<Ray> rays(64);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    rays[i].origin = {0.01f * float(i), 0.0f, -5.0f};
+    rays[i].direction = {0.0f, 0.0f, 1.0f};
+  }
+  const auto file = dir / "few.rays";
+  write_rays(file, rays);
+  return file;
 }
 
 std::filesystem::path fresh_directory(const std::string& tag) {

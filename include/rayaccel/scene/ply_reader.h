@@ -14,8 +14,13 @@ namespace rayaccel {
 
 struct TriangleMeshD;  // core/mesh_d.h
 
-/// True when `bytes` start like a PLY file ("ply" and a line end).
+/// True when `bytes` start like a PLY file: "ply" in any case, then whitespace or nothing (so "PLY", "ply " and
+/// "ply\r" reach parse_ply(), which refuses what is not exactly "ply", rather than another reader).
 bool looks_like_ply(std::span<const std::byte> bytes);
+
+/// True when mesh import reads the file as PLY, with read_ply(): its first bytes look_like_ply(), or it is called
+/// *.ply in any case (then read_ply() says what is wrong with it; no other reader sees it).
+bool reads_as_ply(const std::filesystem::path& path, std::span<const std::byte> first_bytes);
 
 /// Parses a PLY file held in memory; `name` stands for it in messages. Vertices are the `vertex` element's x, y, z
 /// (rounded to float); triangles come from the `face` element's `vertex_indices` (or `vertex_index`) lists in file

@@ -28,8 +28,9 @@ namespace rayaccel {
 struct RayD;  // core/ray_d.h: declared here so that float code including this header sees no double types
 struct HitD;
 
-/// Throws Error naming the file when it cannot be read or its size is not a multiple of 32 bytes. Records are
-/// returned exactly as stored (no validation of NaN or t ranges: PreparedRay makes bad rays void).
+/// Throws Error naming the file when it cannot be read, is called *.rays64 (the double layout) or its size is not a
+/// multiple of 32 bytes. Records are returned exactly as stored (no validation of NaN or t ranges: PreparedRay makes
+/// bad rays void).
 std::vector<Ray> read_rays(const std::filesystem::path& path);
 /// Writes (replaces) the file; throws Error naming the file when it cannot be written.
 void write_rays(const std::filesystem::path& path, std::span<const Ray> rays);
@@ -48,8 +49,9 @@ std::vector<ClosestPoint> read_closest_points(const std::filesystem::path& path)
 void write_closest_points(const std::filesystem::path& path, std::span<const ClosestPoint> points);
 void write_counts(const std::filesystem::path& path, std::span<const std::uint32_t> counts);
 
-/// The double path's files. Throws Error naming the file when it cannot be read or its size is not a multiple of
-/// 64 bytes; records as stored (PreparedRayD makes rays outside the double domain void).
+/// The double path's files. Throws Error naming the file when it cannot be read, (read_rays_d) is called *.rays (the
+/// float layout), or its size is not a multiple of 64 bytes; records as stored (PreparedRayD makes rays outside the
+/// double domain void).
 std::vector<RayD> read_rays_d(const std::filesystem::path& path);
 void write_rays_d(const std::filesystem::path& path, std::span<const RayD> rays);
 /// Throws Error naming the file when it cannot be read, its size is not a multiple of 32 bytes, or a record's
