@@ -16,6 +16,7 @@
 #include "rayaccel/accel/option_table.h"
 #include "rayaccel/bv/aabb_volume.h"
 #include "rayaccel/bv/bounding_volume.h"
+#include "rayaccel/bvh/binary_traversal.h"
 #include "rayaccel/bvh/build_tree.h"
 #include "rayaccel/bvh/sbvh_builder.h"
 #include "rayaccel/scene/scene.h"
@@ -154,66 +155,26 @@ template <BoundingVolume BV>
 template <bool AnyHit, bool Triangles, class Stats>
 void Bvh<BV>::trace_nodes(std::uint32_t start, const PreparedRay& ray, Hit& hit, Stats& stats) const {
   const typename BV::RayContext context = BV::prepare(ray);
-  const Node* nodes = nodes_.data();
-  float t_entry = ray.t_min;
-  stats.visit_node();
-  if (!nodes[start].volume.intersect(context, ray.t_min, bvh_cull_bound(hit.t), &t_entry)) return;
-  struct Entry {
-    std::uint32_t node;
-    float t_entry;
-  };
-  Entry stack[kBvhMaxDepth];  // one deferred sibling per level at most: depth <= kBvhMaxDepth (checked by validate)
-  int top = 0;
-  std::uint32_t current = start;
-  for (;;) {
-    const Node& node = nodes[current];
-    if (node.count > 0) {
-      for (std::uint32_t slot = node.index, end = node.index + node.count; slot < end; ++slot) {
-        stats.test_primitive();
-        bool found;
-        if constexpr (Triangles) {
-          const auto& v = triangles_[slot];
-          found = intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], hit);
-        } else {
-          found = scene_->intersect(prim_ids_[slot], ray, hit);
+  traverse_binary_bvh<AnyHit>(
+      nodes_.data(), start, ray.t_min,
+      [&](const Node& node, float t_far, float* t_entry) {
+        return node.volume.intersect(context, ray.t_min, t_far, t_entry);
+      },
+      [&](const Node& node) {
+        for (std::uint32_t slot = node.index, end = node.index + node.count; slot < end; ++slot) {
+          stats.test_primitive();
+          bool found;
+          if constexpr (Triangles) {
+            const auto& v = triangles_[slot];
+            found = intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], hit);
+          } else {
+            found = scene_->intersect(prim_ids_[slot], ray, hit);
+          }
+          if (AnyHit && found) return true;
         }
-        if (AnyHit && found) return;
-      }
-    } else {
-      const std::uint32_t first = current + 1;
-      const std::uint32_t second = node.index;
-      float t_first = ray.t_min, t_second = ray.t_min;
-      const float t_far = bvh_cull_bound(hit.t);
-      const bool hit_first = nodes[first].volume.intersect(context, ray.t_min, t_far, &t_first);
-      const bool hit_second = nodes[second].volume.intersect(context, ray.t_min, t_far, &t_second);
-      if (hit_first && hit_second) {
-        stats.visit_node();
-        if (!AnyHit && t_second < t_first) {
-          stack[top++] = {first, t_first};
-          current = second;
-        } else {
-          stack[top++] = {second, t_second};
-          current = first;
-        }
-        continue;
-      }
-      if (hit_first || hit_second) {
-        stats.visit_node();
-        current = hit_first ? first : second;
-        continue;
-      }
-    }
-    // Pop the nearest deferred node that can still hold a closer hit (hit.t only shrinks while tracing).
-    for (;;) {
-      if (top == 0) return;
-      const Entry e = stack[--top];
-      if (e.t_entry <= bvh_cull_bound(hit.t)) {
-        stats.visit_node();
-        current = e.node;
-        break;
-      }
-    }
-  }
+        return false;
+      },
+      [&] { return bvh_cull_bound(hit.t); }, stats);
 }
 
 }  // namespace rayaccel

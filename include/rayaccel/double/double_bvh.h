@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rayaccel/bv/aabb_volume.h"
+#include "rayaccel/bvh/binary_traversal.h"
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/double/double_accelerator.h"
 #include "rayaccel/geometry/ray_box_d.h"
@@ -57,52 +58,21 @@ void DoubleBvh::trace(const PreparedRayD& ray, HitD& hit) const {
   const auto& nodes = tree_.nodes();
   if (nodes.empty()) return;
   const BoxFrameD frame(ray, anchor_);
-  double t_entry = ray.t_min;
-  if (!intersect_box(ray, frame, nodes[0].volume.box, ray.t_min, double_bvh_cull_bound(hit.t), &t_entry)) return;
-  struct Entry {
-    std::uint32_t node;
-    double t_entry;
-  };
-  Entry stack[kBvhMaxDepth];  // one deferred sibling per level at most (the tree's depth bound)
-  int top = 0;
-  std::uint32_t current = 0;
-  for (;;) {
-    const auto& node = nodes[current];
-    if (node.count > 0) {
-      for (std::uint32_t slot = node.index, end = node.index + node.count; slot < end; ++slot) {
-        const auto& v = triangles_[slot];
-        if (intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], hit) && AnyHit) return;
-      }
-    } else {
-      const std::uint32_t first = current + 1, second = node.index;
-      double t_first = ray.t_min, t_second = ray.t_min;
-      const double t_far = double_bvh_cull_bound(hit.t);
-      const bool hit_first = intersect_box(ray, frame, nodes[first].volume.box, ray.t_min, t_far, &t_first);
-      const bool hit_second = intersect_box(ray, frame, nodes[second].volume.box, ray.t_min, t_far, &t_second);
-      if (hit_first && hit_second) {
-        if (!AnyHit && t_second < t_first) {
-          stack[top++] = {first, t_first};
-          current = second;
-        } else {
-          stack[top++] = {second, t_second};
-          current = first;
+  using Node = Bvh<AabbVolume>::Node;
+  NoStats stats;
+  traverse_binary_bvh<AnyHit>(
+      nodes.data(), 0, ray.t_min,
+      [&](const Node& node, double t_far, double* t_entry) {
+        return intersect_box(ray, frame, node.volume.box, ray.t_min, t_far, t_entry);
+      },
+      [&](const Node& node) {
+        for (std::uint32_t slot = node.index, end = node.index + node.count; slot < end; ++slot) {
+          const auto& v = triangles_[slot];
+          if (intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], hit) && AnyHit) return true;
         }
-        continue;
-      }
-      if (hit_first || hit_second) {
-        current = hit_first ? first : second;
-        continue;
-      }
-    }
-    for (;;) {
-      if (top == 0) return;
-      const Entry e = stack[--top];
-      if (e.t_entry <= double_bvh_cull_bound(hit.t)) {
-        current = e.node;
-        break;
-      }
-    }
-  }
+        return false;
+      },
+      [&] { return double_bvh_cull_bound(hit.t); }, stats);
 }
 
 }  // namespace rayaccel

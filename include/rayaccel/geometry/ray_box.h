@@ -8,6 +8,7 @@
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/ray.h"
+#include "rayaccel/geometry/slab.h"
 
 namespace rayaccel {
 
@@ -22,17 +23,8 @@ inline constexpr float kSlabWidenDown = 1.0f - 2.0f * kGamma3;
 /// (ray parallel to and lying in a face plane) constrain nothing, so such rays count as touching.
 inline bool clip_ray_to_box(const PreparedRay& r, const AABB& box, float& t_near, float& t_far) {
   for (int a = 0; a < 3; ++a) {
-    const float near_plane = r.negative[a] ? box.hi[a] : box.lo[a];
-    const float far_plane = r.negative[a] ? box.lo[a] : box.hi[a];
-    float t0 = (near_plane - r.origin[a]) * r.inv_direction[a];
-    float t1 = (far_plane - r.origin[a]) * r.inv_direction[a];
-    // Widen both ends (near toward -inf, far toward +inf) so a box is never rejected against the current closest
-    // hit because of rounding in its own entry distance.
-    t0 *= t0 >= 0.0f ? kSlabWidenDown : kSlabWidenUp;
-    t1 *= t1 >= 0.0f ? kSlabWidenUp : kSlabWidenDown;
-    // Written as "candidate beats current ? candidate : current" so a NaN candidate leaves the interval alone.
-    t_near = t0 > t_near ? t0 : t_near;
-    t_far = t1 < t_far ? t1 : t_far;
+    clip_slab(box.lo[a], box.hi[a], r.origin[a], r.inv_direction[a], r.negative[a], kSlabWidenDown, kSlabWidenUp,
+              t_near, t_far);
   }
   return t_near <= t_far;
 }

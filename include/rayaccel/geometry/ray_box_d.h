@@ -9,6 +9,7 @@
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/float_rounding.h"
 #include "rayaccel/core/ray_d.h"
+#include "rayaccel/geometry/slab.h"
 
 namespace rayaccel {
 
@@ -39,14 +40,8 @@ inline bool intersect_box(const PreparedRayD& r, const BoxFrameD& frame, const A
   double t_near = t_min, t_far = t_max;
   for (int a = 0; a < 3; ++a) {
     const double lo = double(box.lo[a]) - frame.slack[a], hi = double(box.hi[a]) + frame.slack[a];
-    const double near_plane = r.negative[a] ? hi : lo;
-    const double far_plane = r.negative[a] ? lo : hi;
-    double t0 = (near_plane - frame.origin[a]) * r.inv_direction[a];
-    double t1 = (far_plane - frame.origin[a]) * r.inv_direction[a];
-    t0 *= t0 >= 0.0 ? kSlabWidenDownD : kSlabWidenUpD;
-    t1 *= t1 >= 0.0 ? kSlabWidenUpD : kSlabWidenDownD;
-    t_near = t0 > t_near ? t0 : t_near;
-    t_far = t1 < t_far ? t1 : t_far;
+    clip_slab(lo, hi, frame.origin[a], r.inv_direction[a], r.negative[a], kSlabWidenDownD, kSlabWidenUpD, t_near,
+              t_far);
   }
   *t_entry = t_near;
   return t_near <= t_far;
