@@ -89,11 +89,15 @@ def test_sphere_scene_views():
     assert not hasattr(scene, "vertices")
 
 
-@pytest.mark.skipif(not os.environ.get("RAYACCEL_SHARED_SCENES"), reason="RAYACCEL_SHARED_SCENES is not set")
 def test_a_ply_file_gives_its_arrays():
-    path = os.path.join(os.environ["RAYACCEL_SHARED_SCENES"], "bunny.ply")
+    # The shared scenes' rule (tests/shared_scenes.h): skipped with the file named in a bare clone, a failure where
+    # RAYACCEL_REQUIRE_SHARED=1 (.ci/run), so CI cannot pass by skipping.
+    path = os.path.join(os.environ.get("RAYACCEL_SHARED_SCENES", ""), "bunny.ply")
     if not os.path.exists(path):
-        pytest.skip(f"{path} is missing")
+        message = f"shared scene '{path}' is missing (RAYACCEL_SHARED_SCENES names ../shared/scenes)"
+        if os.environ.get("RAYACCEL_REQUIRE_SHARED") == "1":
+            pytest.fail(message)
+        pytest.skip(message)
     scene = rayaccel.load(path)
     assert scene.triangles.max() < len(scene.vertices) and len(scene.triangles) == scene.primitive_count
     assert np.all(scene.vertices.min(axis=0) <= scene.bounds[0]) and np.all(scene.vertices.max(axis=0) >= scene.bounds[1])
