@@ -1,19 +1,13 @@
 # RAYACCEL_SANITIZE=ON builds everything with AddressSanitizer and UndefinedBehaviorSanitizer;
 # RAYACCEL_SANITIZE_THREAD=ON with ThreadSanitizer; RAYACCEL_BUILD_FUZZERS=ON adds libFuzzer's coverage
 # instrumentation (Clang) to every object, so the fuzz targets of tests/fuzz see into the library.
-# RAYACCEL_SANITIZE_ONLY (a regex) narrows RAYACCEL_SANITIZE to the library sources whose path matches it and the test
-# executables; every other object is compiled plainly and everything links the runtimes, so each heap block, wherever
-# allocated, has ASan's red zones around it (scripts/ci_asan_avx.sh).
-set(RAYACCEL_SANITIZE_ONLY "" CACHE STRING
-    "With RAYACCEL_SANITIZE: instrument only the library sources matching this regex (and the tests)")
+# RAYACCEL_SANITIZE_FLAGS also compile the AVX kernels' sanitized objects of every tree (scripts/ci_asan_avx.sh).
 set(RAYACCEL_SANITIZE_FLAGS -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
 if(RAYACCEL_SANITIZE AND RAYACCEL_SANITIZE_THREAD)
   message(FATAL_ERROR "RAYACCEL_SANITIZE and RAYACCEL_SANITIZE_THREAD cannot be combined")
 endif()
 if(RAYACCEL_SANITIZE)
-  if(RAYACCEL_SANITIZE_ONLY STREQUAL "")
-    add_compile_options(${RAYACCEL_SANITIZE_FLAGS})
-  endif()
+  add_compile_options(${RAYACCEL_SANITIZE_FLAGS})
   add_link_options(-fsanitize=address,undefined)
 endif()
 if(RAYACCEL_SANITIZE_THREAD)

@@ -1,22 +1,19 @@
 #!/usr/bin/env bash
 # CI tier: the AVX2 and AVX-512 kernels under AddressSanitizer + UndefinedBehaviorSanitizer, which the Clang tree of
-# ci_asan.sh cannot check (Clang builds have the SSE kernels only). A GCC tree (build-asan-avx) at -O1 instruments the
-# kernels and every structure that runs them (src/simd, src/wide, the kd-tree and the grid) and the tests; the rest of
-# the library is compiled plainly but links the runtimes, so every heap block has red zones (cmake/Sanitizers.cmake,
-# RAYACCEL_SANITIZE_ONLY). It builds one small test executable (rayaccel_kernel_tests: the conformance tests and the
-# wide BVH's and SIMD kernels' unit tests) and runs the conformance tier on the variants whose kernels are AVX:
-# bvh_wide (the best ISA: AVX-512 where the CPU has it), bvh_wide with isa=avx2, the kd-tree and the grid with
-# Triangle4 blocks (AVX2).
+# ci_asan.sh cannot check (Clang builds have the SSE kernels only). In the README's GCC tree (build, which CI has just
+# built), it compiles the kernels and every structure that runs them (src/simd, src/wide, the kd-tree and the grid) once
+# more with the sanitizers at -O1, and one small test executable (rayaccel_kernel_tests: the conformance tests and the
+# wide BVH's and SIMD kernels' unit tests) that links them ahead of the plain library; every executable links the
+# runtimes, so each heap block, wherever allocated, has ASan's red zones. It runs the conformance tier on the variants
+# whose kernels are AVX: bvh_wide (the best ISA: AVX-512 where the CPU has it), bvh_wide with isa=avx2, the kd-tree and
+# the grid with Triangle4 blocks (AVX2).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
-cmake -S . -B build-asan-avx -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-  -DRAYACCEL_SANITIZE=ON -DRAYACCEL_SANITIZE_ONLY='/src/(simd|wide)/|/src/accel/(kd_tree|uniform_grid)' \
-  -DRAYACCEL_BUILD_TESTS=ON -DRAYACCEL_BUILD_CLI=ON -DRAYACCEL_BUILD_BENCH=OFF -DRAYACCEL_BUILD_PYTHON=OFF \
-  -DRAYACCEL_BUILD_SHARED=OFF -DRAYACCEL_INSTALL=OFF -DRAYACCEL_WITH_EMBREE=OFF > /dev/null
-cmake --build build-asan-avx --target rayaccel_kernel_tests
+[ -f build/build.ninja ] || cmake -S . -B build -G Ninja > /dev/null
+cmake --build build --target rayaccel_kernel_tests
 built=$(date +%s)
-TIER=ci_asan_avx TESTS=build-asan-avx/bin/rayaccel_kernel_tests LOGS=build-asan-avx/logs
+TIER=ci_asan_avx TESTS=build/bin/rayaccel_kernel_tests LOGS=build/logs-asan-avx
 source scripts/sanitized_runs.sh
 isa=sse2
 grep -qw avx2 /proc/cpuinfo && isa=avx2
