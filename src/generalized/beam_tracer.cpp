@@ -17,6 +17,8 @@ const OptionTable<BeamOptions>& beam_option_table() {
     t.integer("tile_size", &O::tile_size, 1, std::numeric_limits<int>::max(), "side of the first beams in pixels");
     t.integer("min_tile", &O::min_tile, 1, std::numeric_limits<int>::max(), "beams are not split below this side");
     t.boolean("entry_points", &O::entry_points, "rays left over start at the tile's entry node (false: the root)");
+    t.boolean("frustum", &O::frustum,
+              "bvh_wide: SIMD float frustum culling with entry points (false: the double-precision beam tests)");
     t.integer("max_front_candidates", &O::max_front_candidates, 0, std::numeric_limits<int>::max(),
               "the in-front proof is tried only up to this many candidates");
     t.real("max_candidates_per_pixel", &O::max_candidates_per_pixel, RealRange::at_least(0.0),
