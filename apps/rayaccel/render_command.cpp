@@ -52,6 +52,8 @@ struct RenderArgs {
   bool beams = false;
   int beam_tile = 16;
   bool beam_root = false;
+  int beam_min_tile = 2;
+  bool beam_exact_tests = false;
   // cone effects
   std::string cones;
   int cone_samples = 64;
@@ -298,10 +300,14 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
   if (args.beams) {
     if (mode == ShadingMode::heatmap) throw UsageError("--beams: not with --mode heatmap (no per-pixel cost)");
     require_range(args.beam_tile, 1, 4096, "--beam-tile");
+    require_range(args.beam_min_tile, 1, 4096, "--beam-min-tile");
     if (!generalized::supports_generalized_rays(*accel)) {
       throw UsageError("--beams: structure '" + spec + "' has no beam traversal (use bvh, bvh_wide or kdtree)");
     }
-    settings.beams = generalized::BeamOptions{.tile_size = args.beam_tile, .entry_points = !args.beam_root};
+    settings.beams = generalized::BeamOptions{.tile_size = args.beam_tile,
+                                              .min_tile = args.beam_min_tile,
+                                              .entry_points = !args.beam_root,
+                                              .frustum = !args.beam_exact_tests};
   }
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
@@ -376,6 +382,11 @@ Command add_render_command(CLI::App& root) {
   app->add_flag("--beams", args->beams,
                "normals/ao: primary visibility by beams over bvh, bvh_wide or kdtree (the same hits as single rays)");
   app->add_option("--beam-tile", args->beam_tile, "--beams: side of the first beams in pixels")->capture_default_str();
+  app->add_option("--beam-min-tile", args->beam_min_tile, "--beams: beams are not split below this side in pixels")
+      ->capture_default_str();
+  app->add_flag("--beam-exact-tests", args->beam_exact_tests,
+               "--beams over bvh_wide: the double-precision beam/box and beam/triangle tests instead of the SIMD "
+               "frustum (for comparison)");
   app->add_flag("--beam-root", args->beam_root,
                "--beams: trace the undecided rays from the root instead of the tile's entry point (for comparison)");
   app->add_option("--cones", args->cones,

@@ -1,6 +1,7 @@
 // Beam tracer configuration checks, statistics and the image's pixel rays.
 #include "rayaccel/generalized/beam_tracer.h"
 
+#include <atomic>
 #include <limits>
 #include <string>
 
@@ -17,6 +18,8 @@ const OptionTable<BeamOptions>& beam_option_table() {
     t.integer("tile_size", &O::tile_size, 1, std::numeric_limits<int>::max(), "side of the first beams in pixels");
     t.integer("min_tile", &O::min_tile, 1, std::numeric_limits<int>::max(), "beams are not split below this side");
     t.boolean("entry_points", &O::entry_points, "rays left over start at the tile's entry node (false: the root)");
+    t.boolean("frustum", &O::frustum,
+              "bvh_wide: SIMD float frustum culling with entry points (false: the double-precision beam tests)");
     t.integer("max_front_candidates", &O::max_front_candidates, 0, std::numeric_limits<int>::max(),
               "the in-front proof is tried only up to this many candidates");
     t.real("max_candidates_per_pixel", &O::max_candidates_per_pixel, RealRange::at_least(0.0),
@@ -52,15 +55,21 @@ std::vector<Ray> pixel_rays(const PixelRays& pixels) {
   }
   if (!pixels.ray_at) throw Error("beams: no ray_at function for the pixels");
   std::vector<Ray> rays(std::size_t(pixels.width) * std::size_t(pixels.height));
-  for (int y = 0; y < pixels.height; ++y) {
-    for (int x = 0; x < pixels.width; ++x) {
-      rays[std::size_t(y) * std::size_t(pixels.width) + std::size_t(x)] =
-          pixels.ray_at(float(x) + 0.5f, float(y) + 0.5f);
+  // Rows in parallel (the trace is timed with them): ray_at may be called from several threads at once.
+  const Ray first = pixels.ray_at(0.5f, 0.5f);
+  std::atomic<bool> shared_origin = true;
+  ::rayaccel::detail::parallel_for_rays(std::size_t(pixels.height), [&](std::size_t begin, std::size_t end) {
+    bool same = true;
+    for (std::size_t y = begin; y < end; ++y) {
+      Ray* row = rays.data() + y * std::size_t(pixels.width);
+      for (int x = 0; x < pixels.width; ++x) {
+        row[x] = pixels.ray_at(float(x) + 0.5f, float(y) + 0.5f);
+        same = same && row[x].origin == first.origin;
+      }
     }
-  }
-  for (const Ray& r : rays) {
-    if (!(r.origin == rays[0].origin)) throw Error("beams: the pixel rays do not share one origin");
-  }
+    if (!same) shared_origin = false;
+  });
+  if (!shared_origin) throw Error("beams: the pixel rays do not share one origin");
   return rays;
 }
 

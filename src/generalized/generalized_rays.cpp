@@ -10,6 +10,7 @@
 #include "rayaccel/bv/obb_volume.h"
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/generalized/frustum_tracer.h"
 #include "rayaccel/generalized/structure_views.h"
 
 namespace rayaccel::generalized {
@@ -21,6 +22,9 @@ class ViewRays final : public GeneralizedRays {
  public:
   ViewRays(View view, const Scene& scene) : view_(view), scene_(scene) {}
   BeamResult trace_beams(const PixelRays& pixels, const BeamOptions& config) const override {
+    if constexpr (requires { trace_frustum_beams(view_, pixels, config); }) {
+      if (config.frustum) return trace_frustum_beams(view_, pixels, config);
+    }
     return generalized::trace_beams(view_, scene_, pixels, config);
   }
   std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryOptions& config,

@@ -128,12 +128,21 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
     accel->build(c.scene);
     const auto rays = generalized::make_generalized_rays(*accel, c.scene);
     const CameraFrame frame = c.camera.frame(c.width, c.height);
-    // Defaults, and odd tiles split as far as they go (down to single pixels, each level from its entry point).
-    for (const BeamOptions& config :
-         {BeamOptions{}, BeamOptions{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}}) {
+    // Defaults, and odd tiles split as far as they go (down to single pixels, each level from its entry point); the
+    // wide BVH both by its SIMD frustum (the default) and by the double-precision beam tests.
+    std::vector<BeamOptions> configs = {BeamOptions{},
+                                        BeamOptions{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}};
+    if (GetParam().starts_with("bvh_wide")) {
+      for (std::size_t i = 0, n = configs.size(); i < n; ++i) {
+        configs.push_back(configs[i]);
+        configs.back().frustum = false;
+      }
+    }
+    for (const BeamOptions& config : configs) {
       const BeamResult result = rays->trace_beams(pixels_of(frame), config);
       std::string report;
-      EXPECT_EQ(differences(*accel, frame, result, report), 0) << c.name << " tile " << config.tile_size << "\n" << report;
+      EXPECT_EQ(differences(*accel, frame, result, report), 0)
+          << c.name << " tile " << config.tile_size << " frustum " << config.frustum << "\n" << report;
       const auto& s = result.stats;
       EXPECT_EQ(s.pixels_missed + s.pixels_one_primitive + s.pixels_in_front + s.pixels_traced, std::uint64_t(c.width) * std::uint64_t(c.height))
           << c.name;

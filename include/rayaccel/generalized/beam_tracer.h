@@ -48,6 +48,9 @@ struct BeamOptions {
   /// A beam with more candidates than this per pixel is not split: its rays are traced from its entry point at once
   /// (fine geometry, where every pixel sees other primitives, so smaller beams would only repeat the walk).
   float max_candidates_per_pixel = 0.5f;
+  /// bvh_wide: SIMD float frustum culling of boxes with entry points (frustum_tracer.h), no primitive tests; false:
+  /// the double-precision beam/box and beam/triangle tests of every other structure.
+  bool frustum = true;
 };
 /// Checks a configuration; throws Error naming the bad value.
 void check_options(const BeamOptions& config);
@@ -250,16 +253,17 @@ class TileTracer {
 /// Every pixel's ray (pixel centers), checked to share one origin.
 std::vector<Ray> pixel_rays(const PixelRays& pixels);
 
-}  // namespace beam_detail
-
-template <class View>
-BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config) {
+/// The image cut into square tiles of config.tile_size, resolved in parallel: make_resolve(rays, hits) gives the
+/// tracer, resolve(x0, y0, x1, y1, stats) fills the hits of tile [x0, x1) x [y0, y1).
+template <class View, class MakeResolve>
+BeamResult trace_tiles(const View& view, const PixelRays& pixels, const BeamOptions& config,
+                       const MakeResolve& make_resolve) {
   check_options(config);
   BeamResult result;
-  const std::vector<Ray> rays = beam_detail::pixel_rays(pixels);
+  const std::vector<Ray> rays = pixel_rays(pixels);
   result.hits.assign(rays.size(), Hit{});
   if (view.empty()) return result;
-  const beam_detail::TileTracer<View> tracer(view, scene, pixels, rays, config, result.hits);
+  const auto resolve = make_resolve(rays, result.hits);
   const int tiles_x = (pixels.width + config.tile_size - 1) / config.tile_size;
   const int tiles_y = (pixels.height + config.tile_size - 1) / config.tile_size;
   std::mutex merge;
@@ -268,13 +272,25 @@ BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pi
     for (std::size_t t = begin; t < end; ++t) {
       const int tx = int(t % std::size_t(tiles_x)), ty = int(t / std::size_t(tiles_x));
       const int x0 = tx * config.tile_size, y0 = ty * config.tile_size;
-      tracer.resolve(x0, y0, std::min(x0 + config.tile_size, pixels.width),
-                     std::min(y0 + config.tile_size, pixels.height), view.root(), local);
+      resolve(x0, y0, std::min(x0 + config.tile_size, pixels.width), std::min(y0 + config.tile_size, pixels.height),
+              local);
     }
     const std::lock_guard<std::mutex> lock(merge);
     result.stats += local;
   });
   return result;
+}
+
+}  // namespace beam_detail
+
+template <class View>
+BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config) {
+  return beam_detail::trace_tiles(view, pixels, config, [&](const std::vector<Ray>& rays, std::vector<Hit>& hits) {
+    const beam_detail::TileTracer<View> tracer(view, scene, pixels, rays, config, hits);
+    return [tracer, &view](int x0, int y0, int x1, int y1, BeamStats& stats) {
+      tracer.resolve(x0, y0, x1, y1, view.root(), stats);
+    };
+  });
 }
 
 }  // namespace rayaccel::generalized

@@ -11,6 +11,7 @@
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/core/stats.h"
+#include "rayaccel/simd/isa.h"
 #include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel::generalized {
@@ -80,7 +81,11 @@ template <int W>
 class WideView {
  public:
   using Ref = std::uint32_t;
-  explicit WideView(const wide::WideBvh& bvh) : bvh_(bvh) {}
+  explicit WideView(const wide::WideBvh& bvh) : bvh_(bvh), isa_(W == 8 ? eight_wide_isa(bvh) : simd::Isa::sse2) {}
+
+  /// The instruction set of the structure's own kernels: W lanes test a node's W children.
+  simd::Isa isa() const { return isa_; }
+  const wide::Node<W>& node(Ref ref) const { return nodes()[ref]; }
 
   bool empty() const { return bvh_.root() == wide::kEmptyChild; }
   Ref root() const { return bvh_.root(); }
@@ -114,7 +119,15 @@ class WideView {
       return bvh_.nodes4();
     }
   }
+  /// AVX-512 where the structure runs its AVX-512 kernels (its build statistic says so), else AVX2.
+  static simd::Isa eight_wide_isa(const wide::WideBvh& bvh) {
+    for (const BuildStatistic& s : bvh.build_statistics()) {
+      if (s.name == "avx512_kernels") return s.value != 0.0 ? simd::Isa::avx512 : simd::Isa::avx2;
+    }
+    return simd::Isa::avx2;
+  }
   const wide::WideBvh& bvh_;
+  simd::Isa isa_;
 };
 
 /// The kd-tree: a reference is a node with its cell (children's cells split the parent's at the node's plane). A

@@ -1,0 +1,90 @@
+// A beam's frustum in float for SIMD culling of wide-BVH children (Reshetov, Soupikov & Hurley 2005; Wald et al. 2006,
+// frustum culling): planes through the apex that every ray of the beam is proven to lie on, with a stated margin.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "rayaccel/core/ray.h"
+#include "rayaccel/core/vec3.h"
+#include "rayaccel/simd/lane_set.h"
+#include "rayaccel/wide/wide_node.h"
+
+namespace rayaccel::generalized {
+
+/// Planes through the apex a with normals n_p (floats): a box is culled when, for some p, every point x of the box
+/// (grown by its slack) has n_p . (x - a) < 0, while every ray of the beam has n_p . d >= 0 and t >= 0 (holds()), so
+/// no ray point lies in the box. The side planes come from the beam's four corner rays; axis planes (normal +-e_k)
+/// are added where every corner and pixel ray points one way along axis k (the box faces of the beam's test).
+///
+/// Margin (frustum_cull_lanes()): the float value v = fl(n . fl(c - a)) of the box corner c farthest along n differs
+/// from the exact n . (c - a) by at most gamma(4) * sum_k |n_k| |fl(c_k - a_k)| (one rounding of each difference, a
+/// three-term dot product; gamma(4) < 2.4e-7) plus 4 * 2^-150 where products underflow. The test culls only when
+/// fl(v + B) < 0 with B = fl(fl(2^-20 * sum_k |n_k|, rounded up) * max_k |fl(c_k - a_k)|) + 2^-126 >= 3.9 * that bound,
+/// so the exact value is negative: a box the beam touches is never culled (tests/generalized/beam_frustum_test.cpp).
+/// Slack: each box is first grown by 2^-16 of the largest magnitude among its coordinates and the apex's (so by at
+/// least 0.99 of that after rounding): covers boxes a single ray's slab test enters although the exact ray misses
+/// them by rounding, whose size grows with the distance from the origin (far apexes included).
+struct BeamFrustum {
+  static constexpr int kMaxPlanes = 7;  ///< four sides and three axis planes
+  static constexpr float kMarginScale = 0x1p-20f;
+  static constexpr float kSlackScale = 0x1p-16f;
+  Vec3 apex;
+  float apex_magnitude = 0.0f;   ///< max_k |apex_k|
+  int plane_count = 0;           ///< 0: an invalid frustum (it holds no ray, culls nothing)
+  float normal[kMaxPlanes][3]{};  ///< float normals (the planes themselves, not roundings of others)
+  float margin[kMaxPlanes]{};     ///< 2^-20 * sum_k |normal_k|, rounded up
+  bool far_is_hi[kMaxPlanes][3]{};  ///< normal_k >= 0: the box's hi face is farthest along the normal
+
+  /// The frustum of the rays through `corners` (four directions in order around the beam's cross-section) from
+  /// `apex`, with the axis planes where every corner points one way. Invalid when a value is not finite.
+  static BeamFrustum through(const Vec3& apex, const Vec3 corners[4]);
+  /// True when the ray starts at the apex, has t_min >= 0 and n_p . d > 0 proven for every plane (in double: the
+  /// products of floats are exact, the two sums' rounding far below the 2^-50 relative margin required), so every
+  /// point of the ray lies on the inner side of every plane.
+  bool holds(const Ray& ray) const;
+  bool valid() const { return plane_count > 0; }
+};
+
+RAYACCEL_LANE_CODE_BEGIN
+/// The lanes (children) of a W-wide node whose box the frustum may meet: non-empty children not culled by any plane
+/// (see BeamFrustum for the margin and slack; slack_scale other than kSlackScale only to test the margin alone).
+/// S::kWidth == W.
+template <class S, int W>
+RAYACCEL_LANE_INLINE int frustum_child_lanes(const BeamFrustum& f, const wide::Node<W>& node,
+                                             float slack_scale = BeamFrustum::kSlackScale) {
+  static_assert(S::kWidth == W, "one lane a child");
+  using F = typename S::F;
+  const F sign_bit = S::set1(-0.0f);
+  F lo[3], hi[3];
+  F magnitude = S::set1(f.apex_magnitude);
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = S::load(node.bounds[k][0]);
+    hi[k] = S::load(node.bounds[k][1]);
+    magnitude = S::max(magnitude, S::max(S::and_not(sign_bit, lo[k]), S::and_not(sign_bit, hi[k])));
+  }
+  const F nonempty = S::le(lo[0], hi[0]);  // an unused child has lo = +inf, hi = -inf
+  const F slack = S::mul(magnitude, S::set1(slack_scale));
+  F reach = S::zero();  // max_k |fl(c_k - a_k)| over both faces
+  for (int k = 0; k < 3; ++k) {
+    const F a = S::set1(f.apex[k]);
+    lo[k] = S::sub(S::sub(lo[k], slack), a);
+    hi[k] = S::sub(S::add(hi[k], slack), a);
+    reach = S::max(reach, S::max(S::and_not(sign_bit, lo[k]), S::and_not(sign_bit, hi[k])));
+  }
+  F culled = S::zero();
+  const F tiny = S::set1(0x1p-126f);
+  for (int p = 0; p < f.plane_count; ++p) {
+    const F* c[3];
+    for (int k = 0; k < 3; ++k) c[k] = f.far_is_hi[p][k] ? &hi[k] : &lo[k];
+    F v = S::mul(S::set1(f.normal[p][0]), *c[0]);
+    v = S::add(v, S::mul(S::set1(f.normal[p][1]), *c[1]));
+    v = S::add(v, S::mul(S::set1(f.normal[p][2]), *c[2]));
+    const F bound = S::add(S::mul(S::set1(f.margin[p]), reach), tiny);
+    culled = S::bit_or(culled, S::lt(S::add(v, bound), S::zero()));
+  }
+  return S::movemask(S::and_not(culled, nonempty));
+}
+RAYACCEL_LANE_CODE_END
+
+}  // namespace rayaccel::generalized

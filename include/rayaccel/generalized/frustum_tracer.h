@@ -1,0 +1,150 @@
+// Beams over the wide BVH by SIMD frustum culling with entry points found once per tile (Reshetov, Soupikov & Hurley
+// 2005, "Multi-level ray tracing algorithm"; Wald et al. 2006 frustum culling): no primitive tests, only boxes.
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+#include "rayaccel/core/hit.h"
+#include "rayaccel/core/ray.h"
+#include "rayaccel/core/stats.h"
+#include "rayaccel/generalized/beam_frustum.h"
+#include "rayaccel/generalized/beam_tracer.h"
+#include "rayaccel/generalized/structure_views.h"
+#include "rayaccel/simd/dispatch.h"
+
+namespace rayaccel::generalized::beam_detail {
+
+// Each tile's frustum (BeamFrustum: float planes through its corner rays, every pixel ray proven inside) descends the
+// wide BVH from its start node while exactly one child of a node may meet it, each node's W child boxes tested
+// against every plane in one pass of W lanes. No child: every pixel misses. Otherwise the node reached is the tile's
+// entry point: a tile above min_tile is split in four, each quarter descending from there; the rays of a tile at
+// min_tile (or of one that reached a leaf) are traced one by one from it with the structure's own traversal. A
+// subtree the frustum culls holds nothing its rays can hit, so a traversal from the entry point tests the primitives
+// that can be hit in the order one from the root does: every pixel's hit is intersect()'s bit for bit.
+template <int W>
+class FrustumTileTracer {
+ public:
+  FrustumTileTracer(const WideView<W>& view, const PixelRays& pixels, const std::vector<Ray>& rays,
+                    const BeamOptions& config, std::vector<Hit>& hits)
+      : view_(view), pixels_(pixels), rays_(rays), config_(config), hits_(hits) {}
+
+  /// Resolves every pixel of the tile [x0, x1) x [y0, y1), splitting it as described above.
+  void resolve(int x0, int y0, int x1, int y1, BeamStats& stats) const {
+    simd::run_with_lanes(view_.isa(), [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+      if constexpr (Lanes::kWidth == W) resolve_with<Lanes>(x0, y0, x1, y1, stats);
+    });
+  }
+
+ private:
+  struct Tile {
+    int x0, y0, x1, y1;
+    std::uint32_t start;
+  };
+
+  template <class S>
+  RAYACCEL_LANE_INLINE void resolve_with(int x0, int y0, int x1, int y1, BeamStats& stats) const {
+    Tile pending[100];  // depth-first: at most 3 quarters wait per level of at most 32 levels
+    int top = 0;
+    pending[top++] = {x0, y0, x1, y1, view_.root()};
+    while (top > 0) {
+      const Tile t = pending[--top];
+      ++stats.beams;
+      const BeamFrustum frustum = frustum_of(t);
+      if (!frustum.valid()) {  // a frustum that cannot be proven to hold its rays decides nothing
+        trace_rays(t, t.start, stats);
+        continue;
+      }
+      std::uint32_t ref = t.start;
+      bool empty = false;
+      while (!view_.is_leaf(ref)) {
+        const int lanes = frustum_child_lanes<S, W>(frustum, view_.node(ref));
+        ++stats.beam_node_tests;
+        if (lanes == 0) {
+          empty = true;
+          break;
+        }
+        if (lanes & (lanes - 1)) break;  // two or more children: the entry point
+        ref = view_.node(ref).child[std::countr_zero(unsigned(lanes))];
+      }
+      if (empty) {
+        for (int y = t.y0; y < t.y1; ++y) {
+          for (int x = t.x0; x < t.x1; ++x) hits_[index(x, y)] = Hit{};
+        }
+        stats.pixels_missed += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+        continue;
+      }
+      const int w = t.x1 - t.x0, h = t.y1 - t.y0;
+      if (view_.is_leaf(ref) || std::max(w, h) <= config_.min_tile) {
+        trace_rays(t, config_.entry_points ? ref : view_.root(), stats);
+        continue;
+      }
+      const int xm = w > config_.min_tile ? t.x0 + (w + 1) / 2 : t.x1;
+      const int ym = h > config_.min_tile ? t.y0 + (h + 1) / 2 : t.y1;
+      // Pushed in reverse so the top-left quarter is resolved first.
+      const Tile quarters[4] = {{xm, ym, t.x1, t.y1, ref}, {t.x0, ym, xm, t.y1, ref}, {xm, t.y0, t.x1, ym, ref},
+                                {t.x0, t.y0, xm, ym, ref}};
+      for (const Tile& q : quarters) {
+        if (q.x0 < q.x1 && q.y0 < q.y1) pending[top++] = q;
+      }
+    }
+  }
+
+  /// The frustum through the tile's corners, or an invalid one when a pixel ray is not proven inside it.
+  BeamFrustum frustum_of(const Tile& t) const {
+    const float fx[4] = {float(t.x0), float(t.x1), float(t.x1), float(t.x0)};
+    const float fy[4] = {float(t.y0), float(t.y0), float(t.y1), float(t.y1)};
+    Vec3 corners[4];
+    for (int i = 0; i < 4; ++i) corners[i] = pixels_.ray_at(fx[i], fy[i]).direction;
+    BeamFrustum frustum = BeamFrustum::through(rays_[0].origin, corners);
+    for (int y = t.y0; y < t.y1 && frustum.valid(); ++y) {
+      for (int x = t.x0; x < t.x1; ++x) {
+        if (!frustum.holds(rays_[index(x, y)])) {
+          frustum.plane_count = 0;
+          break;
+        }
+      }
+    }
+    return frustum;
+  }
+
+  void trace_rays(const Tile& t, std::uint32_t start, BeamStats& stats) const {
+    TraversalStats cost;
+    for (int y = t.y0; y < t.y1; ++y) {
+      for (int x = t.x0; x < t.x1; ++x) {
+        const PreparedRay prepared(rays_[index(x, y)]);
+        Hit hit = Hit::begin(prepared);
+        if (!prepared.is_void()) view_.trace_from(start, prepared, hit, cost);
+        hit.finish();
+        hits_[index(x, y)] = hit;
+      }
+    }
+    stats.ray_node_visits += cost.nodes_visited;
+    stats.ray_primitive_tests += cost.primitives_tested;
+    stats.pixels_traced += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+  }
+
+  std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(pixels_.width) + std::size_t(x); }
+
+  const WideView<W>& view_;
+  const PixelRays& pixels_;
+  const std::vector<Ray>& rays_;
+  const BeamOptions& config_;
+  std::vector<Hit>& hits_;
+};
+
+}  // namespace rayaccel::generalized::beam_detail
+
+namespace rayaccel::generalized {
+
+/// trace_beams() over the wide BVH by frustum culling (beam_detail::FrustumTileTracer): the same hits.
+template <int W>
+BeamResult trace_frustum_beams(const WideView<W>& view, const PixelRays& pixels, const BeamOptions& config) {
+  return beam_detail::trace_tiles(view, pixels, config, [&](const std::vector<Ray>& rays, std::vector<Hit>& hits) {
+    const beam_detail::FrustumTileTracer<W> tracer(view, pixels, rays, config, hits);
+    return [tracer](int x0, int y0, int x1, int y1, BeamStats& stats) { tracer.resolve(x0, y0, x1, y1, stats); };
+  });
+}
+
+}  // namespace rayaccel::generalized
