@@ -1,8 +1,5 @@
-// The check `rayaccel bench` runs before timing anything: every structure's answers against Embree for every ray
-// (every disagreement, and a sample of every workload, then settled by brute force, the oracle) or, without Embree,
-// against brute force on a sample. Closest hits must name the oracle's primitive or an exact tie in t, and carry
-// exactly the t, u, v that the shared triangle kernel gives for the primitive they name. Embree's own answers are
-// checked on the sample by a rule for a foreign kernel: the same hit or miss, t within a relative tolerance.
+// The check `rayaccel bench` runs before timing: every structure against Embree on every ray (disagreements and a
+// sample settled by brute force, the oracle), else against brute force on a sample; the rules: docs/design.md.
 #include <fmt/core.h>
 
 #include <algorithm>

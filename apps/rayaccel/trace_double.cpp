@@ -22,11 +22,6 @@
 
 namespace rayaccel::cli {
 
-// `rayaccel trace SCENE RAYS --precision double`: the scene in double (a PLY file's coordinates as read, so `property
-// double` keeps its 53 bits; other files and builtins through the float loader, exact in double), moved by --offset,
-// a double structure (make_double_accelerator: brute_force or bvh with bv=aabb), .rays64 in, .hits64 or .occ out
-// (scene/ray_io.h), and the float trace's summary line plus "precision":"double".
-
 namespace {
 
 constexpr int kBuilds = 3;

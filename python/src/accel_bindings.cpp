@@ -92,44 +92,18 @@ class PyAccelerator : public LockedStructure<PyAccelerator, Accelerator, Scene> 
   /// `out`: None, or an (N, 16) uint8 C-contiguous writable array the records are written into (and returned).
   py::tuple intersect(const py::handle& rays_object, bool with_stats, bool packets, bool check,
                       const py::object& out) const {
-    const BatchRays<Ray> batch(rays_object);
-    const std::span<const Ray> rays = batch.rays;
-    if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
-    auto [records, hits] = record_array<Hit>(rays.size(), out);
-    py::object stats_array = py::none();
-    const std::span<TraversalStats> stats =
-        with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
-    trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
-      const auto block = rays.subspan(begin, end - begin);
-      if (packets) {
-        accel.intersect_packets(block, hits.subspan(begin, end - begin));
-      } else {
-        accel.intersect(block, hits.subspan(begin, end - begin),
-                        stats.empty() ? stats : stats.subspan(begin, end - begin));
-      }
-    });
-    return py::make_tuple(records, stats_array);
+    return trace_batch(
+        rays_object, with_stats, packets, check, [&](std::size_t n) { return record_array<Hit>(n, out); },
+        [](const Accelerator& accel, auto rays, auto hits, auto stats) { accel.intersect(rays, hits, stats); },
+        [](const Accelerator& accel, auto rays, auto hits) { accel.intersect_packets(rays, hits); });
   }
 
   /// Any hits: (N,) bool, and (N, 2) uint64 statistics or None.
   py::tuple occluded(const py::handle& rays_object, bool with_stats, bool packets, bool check) const {
-    const BatchRays<Ray> batch(rays_object);
-    const std::span<const Ray> rays = batch.rays;
-    if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
-    auto [answers, out] = answer_array(rays.size());
-    py::object stats_array = py::none();
-    const std::span<TraversalStats> stats =
-        with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
-    trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
-      const auto block = rays.subspan(begin, end - begin);
-      if (packets) {
-        accel.occluded_packets(block, out.subspan(begin, end - begin));
-      } else {
-        accel.occluded(block, out.subspan(begin, end - begin),
-                       stats.empty() ? stats : stats.subspan(begin, end - begin));
-      }
-    });
-    return py::make_tuple(answers, stats_array);
+    return trace_batch(
+        rays_object, with_stats, packets, check, [](std::size_t n) { return answer_array(n); },
+        [](const Accelerator& accel, auto rays, auto answers, auto stats) { accel.occluded(rays, answers, stats); },
+        [](const Accelerator& accel, auto rays, auto answers) { accel.occluded_packets(rays, answers); });
   }
 
   /// Hit points (recomputed from the primitive) and unit geometric normals, (N, 3) float32 each, NaN at misses.
@@ -249,6 +223,31 @@ class PyAccelerator : public LockedStructure<PyAccelerator, Accelerator, Scene> 
   }
 
  private:
+  /// The one batch body of intersect() and occluded(): `make_out(n)` gives the result array and its per-ray span,
+  /// filled block by block by `single(accel, rays, out, stats)` or, with `packets`, `grouped(accel, rays, out)`;
+  /// returns (results, (N, 2) uint64 statistics or None).
+  template <class MakeOut, class Single, class Grouped>
+  py::tuple trace_batch(const py::handle& rays_object, bool with_stats, bool packets, bool check, MakeOut make_out,
+                  Single single, Grouped grouped) const {
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
+    if (packets && with_stats) throw ValueError("packets=True gives no per-ray statistics (stats=False)");
+    auto [results, out] = make_out(rays.size());
+    py::object stats_array = py::none();
+    const std::span<TraversalStats> stats =
+        with_stats ? statistics_array(rays.size(), stats_array) : std::span<TraversalStats>{};
+    trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+      const auto block = rays.subspan(begin, end - begin);
+      const auto out_block = out.subspan(begin, end - begin);
+      if (packets) {
+        grouped(accel, block, out_block);
+      } else {
+        single(accel, block, out_block, stats.empty() ? stats : stats.subspan(begin, end - begin));
+      }
+    });
+    return py::make_tuple(results, stats_array);
+  }
+
   /// `accel` when it answers all-hits and closest-point queries (ValueError naming it otherwise).
   static const Accelerator& require_queries(const Accelerator& accel) {
     if (!accel.supports_queries()) {

@@ -22,11 +22,6 @@
 
 namespace rayaccel::python {
 
-// The double-precision path for Python: rayaccel.mesh_double() makes a DoubleScene from float64 numpy arrays, and
-// rayaccel.build_double() a double structure (make_double_accelerator: brute_force or bvh) queried with (N, 8) float64
-// rays in the .rays64 layout into (N, 32) uint8 records in the .hits64 layout (scene/ray_io.h), so results equal the
-// CLI's files byte for byte. Builds and batches run without the GIL.
-
 namespace {
 
 // The numpy records are the library's own: RayD is the .rays64 record, HitD the .hits64 one (its padding word is

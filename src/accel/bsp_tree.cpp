@@ -133,6 +133,8 @@ std::vector<std::string> BspTree::validate() const {
   return report.problems;
 }
 
+// Option table, checked constructor and registry entry: the registration every structure has (kd_tree.cpp's reads
+// alike), each over its own options.
 const OptionTable<BspTreeOptions>& bsp_tree_option_table() {
   using O = BspTreeOptions;
   static const OptionTable<O> table = [] {

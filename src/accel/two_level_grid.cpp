@@ -59,10 +59,7 @@ void TwoLevelGrid::build(const Scene& scene) {
   }
   pad_ = cell_padding(box);
   top_ = GridFrame::make(
-      box, limit_references(limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.top_density,
-                                                               options_.max_resolution, options_.max_cells),
-                                               box),
-                            box, refs, pad_, grid_reference_budget(refs.size(), 16)));
+      box, level_resolution(box, refs, pad_, options_.top_density, options_.max_resolution, options_.max_cells, 16));
   const CellLists top_lists = bin_primitives(scene, refs, top_, pad_, exact_used_);
 
   // Second level, one independent grid per non-empty top cell, built in parallel.
@@ -89,11 +86,8 @@ void TwoLevelGrid::build(const Scene& scene) {
       for (int a = 0; a < 3; ++a) {
         if (!(sub.hi[a] - sub.lo[a] >= pad_)) { sub.lo[a] -= pad_; sub.hi[a] += pad_; }
       }
-      const auto res = limit_references(limit_to_precision(grid_resolution(sub.extent(), cell_refs.size(),
-                                                                           options_.leaf_density,
-                                                                           options_.max_leaf_resolution, 1u << 21),
-                                                           sub),
-                                        sub, cell_refs, pad_, grid_reference_budget(cell_refs.size(), 64));
+      const auto res =
+          level_resolution(sub, cell_refs, pad_, options_.leaf_density, options_.max_leaf_resolution, 1u << 21, 64);
       SubGrid& g = grids[i];
       g.box = sub;
       g.first_cell = 0;

@@ -48,10 +48,7 @@ void UniformGrid::build(const Scene& scene) {
   }
   pad_ = cell_padding(box);
   frame_ = GridFrame::make(
-      box, limit_references(limit_to_precision(grid_resolution(box.extent(), refs.size(), options_.density,
-                                                               options_.max_resolution, options_.max_cells),
-                                               box),
-                            box, refs, pad_, grid_reference_budget(refs.size(), 64)));
+      box, level_resolution(box, refs, pad_, options_.density, options_.max_resolution, options_.max_cells, 64));
   lists_ = bin_primitives(scene, refs, frame_, pad_, exact_used_);
   references_ = lists_.ids.size();
   const std::uint32_t cells = frame_.cell_count();

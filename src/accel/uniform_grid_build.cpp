@@ -64,6 +64,13 @@ std::array<int, 3> limit_references(std::array<int, 3> res, const AABB& box, std
   }
 }
 
+std::array<int, 3> level_resolution(const AABB& box, std::span<const PrimRef> refs, float pad, double density,
+                                    int max_resolution, std::uint64_t max_cells, std::size_t per_primitive) {
+  const auto res = grid_resolution(box.extent(), refs.size(), density, max_resolution, max_cells);
+  const std::size_t budget = grid_reference_budget(refs.size(), per_primitive);
+  return limit_references(limit_to_precision(res, box), box, refs, pad, budget);
+}
+
 namespace {
 
 /// Calls emit(cell) for every cell of `f` the primitive is binned to. Triangles under the exact rule are located by

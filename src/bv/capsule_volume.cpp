@@ -15,12 +15,6 @@
 
 namespace rayaccel {
 
-// Capsule fitting. For a fixed axis direction u, the axis line goes through the centre of the points' extents
-// across u; the smallest radius is the largest distance from that line, and for a radius r each point p (axial
-// coordinate s, distance w from the line) needs the segment to meet its reach [s - h, s + h], h = sqrt(r^2 - w^2),
-// so the shortest segment runs from the smallest upper end to the largest lower end (one point when they cross).
-// A larger radius shortens the segment; a few radii are tried per axis and the least surface area wins.
-
 namespace {
 
 using bv_detail::Vec3d;

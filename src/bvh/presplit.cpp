@@ -80,8 +80,8 @@ double depth_weight(int depth) {
   return table[depth];
 }
 
-/// Cube root to about 1e-6 relative (priorities only share out a budget of pieces; a third Newton step, for 1e-9,
-/// cost 5-10% of the pre-splitting time on the dragon) without a library call: a first guess from the exponent bits
+/// Cube root to about 1e-6 relative (priorities only share out a budget of pieces; a third Newton step is not worth
+/// its time: BENCHMARKS.md, "Option choices") without a library call: a first guess from the exponent bits
 /// divided by three, then two Newton steps. x > 0 and finite.
 double fast_cbrt(double x) {
   const auto bits = std::bit_cast<std::uint64_t>(x);

@@ -10,15 +10,6 @@
 
 namespace rayaccel {
 
-// Exact edge functions, adaptively (Shewchuk 1997): first in double with a static error bound, which gives all but
-// the rays within about 1e-9 of an edge their sign and a value precise enough for t; then by expansion arithmetic: every product of the float inputs is split into
-// doubles without rounding (Dekker's two-product over Veltkamp's split, Knuth's two-sum), and the terms are summed
-// into a nonoverlapping expansion whose largest component has the sign of the exact sum. Float inputs keep every
-// intermediate far from double's overflow and underflow thresholds: a term is a product of at most three floats'
-// parts (|x| < 2^129 each, nonzero parts >= 2^-149), so every value and rounding error stays within 2^-600..2^400.
-// The same holds for doubles of the double domain (core/ray_d.h: 0 or 2^-64 <= |x| <= 2^64): every difference and
-// split part is a multiple of 2^-116 below 2^66, so every product of three is a multiple of 2^-348 below 2^200.
-
 namespace {
 
 /// hi + lo == the exact result of one operation, |lo| at most half an ulp of hi.

@@ -19,21 +19,9 @@ std::string number_text(double value) {
 }
 }  // namespace
 
-Affine3 Affine3::translation(double x, double y, double z) {
-  Affine3 a;
-  a(0, 3) = x;
-  a(1, 3) = y;
-  a(2, 3) = z;
-  return a;
-}
+Affine3 Affine3::translation(double x, double y, double z) { return {{1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z}}; }
 
-Affine3 Affine3::scaling(double x, double y, double z) {
-  Affine3 a;
-  a(0, 0) = x;
-  a(1, 1) = y;
-  a(2, 2) = z;
-  return a;
-}
+Affine3 Affine3::scaling(double x, double y, double z) { return {{x, 0, 0, 0, 0, y, 0, 0, 0, 0, z, 0}}; }
 
 Affine3 Affine3::rotation(const Vec3& axis, double radians) {
   const double x = axis.x, y = axis.y, z = axis.z;

@@ -35,6 +35,7 @@ void add_stats(RayCounts& counts, const TraversalStats& stats) {
 
 }  // namespace
 
+// Member by member, as BeamStats' (generalized/beam_tracer.cpp): other counters, nothing to share.
 RayCounts& RayCounts::operator+=(const RayCounts& o) {
   camera += o.camera;
   shadow += o.shadow;

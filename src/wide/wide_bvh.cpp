@@ -11,7 +11,7 @@
 namespace rayaccel::wide {
 
 void WideBvh::build(const Scene& scene) {
-  // Computed for every triangle scene (1-2 ms on the shared scenes), so the statistic is reported whatever the options.
+  // Computed for every triangle scene (it is cheap: BENCHMARKS.md), so the statistic is reported whatever the options.
   const bool triangles = scene.kind() == PrimitiveKind::triangles;
   const double potential = triangles ? presplit_potential(scene) : 0.0;
   if (config_.presplit > 0.0f && triangles && potential >= config_.presplit_threshold) {

@@ -1,8 +1,5 @@
-// The wide BVH's queries beyond the first hit: every leaf the ray's whole interval enters (all hits), and a
-// branch-and-bound closest-point search, nearer children first, that skips children whose box lies beyond the best
-// distance so far. Child boxes are tested by the SIMD box kernel for all hits and read back from the SoA node for the
-// closest point; triangles are read from the Triangle4 blocks and tested one by one (pre-split triangles sit in
-// several leaves; HitList and the strict closest test keep them once).
+// The wide BVH's queries beyond the first hit: all hits (every leaf the ray's interval enters) and a branch-and-bound
+// closest-point search, nearer children first; pre-split triangles in several leaves are reported once.
 #include "rayaccel/bvh/bvh.h"
 #include "rayaccel/geometry/ray_box.h"
 #include "rayaccel/wide/wide_bvh.h"

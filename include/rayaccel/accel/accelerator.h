@@ -21,13 +21,6 @@
 
 namespace rayaccel {
 
-// Accelerator: the one runtime interface over every structure (closest hit, any hit, parallel batches, memory,
-// statistics, validation), and AcceleratorImpl, which derives all of it from a structure's single templated
-// traversal so there is one indirect call per ray or per batch and none per node; the queries beyond the first hit
-// (every crossing along a ray, the closest point to a point) come from two more members a structure may have. Changes
-// after the build (update after vertex motion, insertion and removal, saving and loading) are virtual members with a
-// default that rebuilds or says the structure lacks them.
-
 /// What Accelerator::update() did: refitted (tree shape kept, bounds and leaf copies refreshed from the moved vertices)
 /// or rebuilt from scratch.
 enum class UpdateKind { refitted, rebuilt };

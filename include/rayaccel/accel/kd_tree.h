@@ -20,13 +20,6 @@
 
 namespace rayaccel {
 
-// kd-tree: axis-aligned binary space partition with 8-byte nodes, built either at the median of the centroids
-// (cycling axes) or by the O(N log N) SAH sweep with perfect splits of Wald & Havran 2006 ("On building fast
-// kd-trees for ray tracing, and on doing that in O(N log N)"); traversed front to back by ray segments. Triangle
-// meshes keep a copy of each leaf's triangles as Triangle4 blocks (simd/triangle_blocks.h) tested four at a time with
-// the watertight SIMD kernel (eight, two blocks at once, with AVX2 when the CPU has it), and the SAH charges K_I per
-// started block of four, as Embree's builders do; other primitive kinds are tested one by one through the scene.
-
 struct KdTreeOptions {
   enum class Builder { median, sah };
   Builder builder = Builder::sah;

@@ -20,12 +20,6 @@
 
 namespace rayaccel {
 
-// Uniform grid: one regular grid over the scene with compact cell lists (Lagae & Dutre 2008, "Compact, Fast and
-// Robust Grids for Ray Tracing"), resolution after Wald et al. / Ize et al., and 3D-DDA traversal with mailboxing
-// (Amanatides & Woo 1987). Triangle meshes keep each cell's triangles as Triangle4 blocks (simd/triangle_blocks.h,
-// copies of the vertices) tested with the watertight SIMD kernel, and a bit per cell lets the walk pass empty cells
-// without reading their lists. Also declares the binning helpers the two-level grid reuses.
-
 struct UniformGridOptions {
   /// Cells per axis ~ density * cbrt(n) for a cubic box (about density^3 cells per primitive). The default 3 is the
   /// classic rule (and this project's specification); with Triangle4 blocks fewer, fuller cells pay better
@@ -58,6 +52,12 @@ inline std::size_t grid_reference_budget(std::size_t n, std::size_t per_primitiv
 /// makes at most `budget` pairs, so a build's work and memory stay linear in its input.
 std::array<int, 3> limit_references(std::array<int, 3> res, const AABB& box, std::span<const PrimRef> refs,
                                     float pad, std::size_t budget);
+
+/// The cells per axis of one grid level over `box` holding `refs` (boxes grown by `pad`): grid_resolution(), then
+/// limit_to_precision(), then limit_references() with grid_reference_budget(refs.size(), per_primitive). The one rule
+/// for the uniform grid and both levels of the two-level grid.
+std::array<int, 3> level_resolution(const AABB& box, std::span<const PrimRef> refs, float pad, double density,
+                                    int max_resolution, std::uint64_t max_cells, std::size_t per_primitive);
 
 /// Compact cell lists: the primitives of cell c are ids[offsets[c] .. offsets[c+1]).
 struct CellLists {

@@ -70,6 +70,7 @@ class Bvh final : public AcceleratorImpl<Bvh<BV>> {
   explicit Bvh(BvhOptions config = {});
 
   void build(const Scene& scene) override;
+  // refit() to load(): the same Accelerator members WideBvh declares, each structure with its own implementation.
   /// Re-fits every volume bottom-up after Scene::set_vertices() changed positions but not topology. The tree shape
   /// is kept; SBVH trees then bound whole primitives (their clipped parts no longer apply: a conservative refit, with
   /// more overlap than a rebuild). Throws Error when the scene's primitive count changed or nothing was built.

@@ -8,12 +8,6 @@
 
 namespace rayaccel {
 
-// EmbreeAccelerator: Intel Embree 3 behind the Accelerator interface, for benchmark comparisons only: registered as
-// "embree" (options quality, robust, threads) but marked a comparison entry, so it is not among the variants the
-// conformance suite and `--accel all` run. Rays go through rtcIntersect1/rtcOccluded1 one at a time
-// (intersect_packets, occluded_packets: rtcIntersect8, rtcOccluded8 eight at a time) inside the same TBB batch loop
-// every structure uses, so timings compare like with like.
-
 /// Adds "embree" (a comparison entry) where Embree was found at build time; nothing otherwise.
 void register_embree(std::vector<AcceleratorInfo>& registry);
 /// Makes "embree" a registry entry in a program that links rayaccel::compare: call before anything uses the

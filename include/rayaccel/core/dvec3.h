@@ -9,6 +9,8 @@
 
 namespace rayaccel {
 
+/// Vec3's members and operators again in double, a type of its own rather than a Vec3<T>: every module includes
+/// vec3.h, and the float code keeps seeing no double types.
 struct DVec3 {
   double x = 0.0, y = 0.0, z = 0.0;
 

@@ -86,6 +86,8 @@ struct PreparedRayD {
 };
 
 /// The closest-hit record in double {t, prim_id, u, v}; barycentrics as Hit's: p = (1-u-v)*v0 + u*v1 + v*v2.
+/// Hit's members again in double, a type of its own rather than a Hit<T>: its layout is the .hits64 record (a padding
+/// word after prim_id), and float code keeps seeing no double types.
 struct HitD {
   /// While tracing: the exclusive upper bound of t (see begin()). After finish(): the distance, or +inf for a miss.
   double t = std::numeric_limits<double>::infinity();

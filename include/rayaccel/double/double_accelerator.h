@@ -16,12 +16,6 @@
 
 namespace rayaccel {
 
-// DoubleAccelerator: the runtime interface of the double-precision path (closest hit, any hit, parallel batches) and
-// DoubleAcceleratorImpl, which derives it from one templated traversal as AcceleratorImpl does (accel/accelerator.h):
-// one indirect call per ray or batch, none per node. Structures by spec: "brute_force", or "bvh" with the options of
-// the float "bvh" entry (builder, leaf_size, bins, ...; bv must be aabb). Kernels: geometry/ray_triangle_d.h (Woop,
-// Benthin, Wald 2013) and geometry/ray_box_d.h (Ize 2013).
-
 class DoubleAccelerator {
  public:
   virtual ~DoubleAccelerator() = default;

@@ -1,6 +1,5 @@
-// The BVH in double: a Bvh<AabbVolume> over float boxes rounded outward from the double triangles relative to
-// an anchor, walked with the conservative double slab test (Ize 2013) and the double watertight kernel (Woop et al.
-// 2013).
+// The BVH in double: a Bvh<AabbVolume> over float boxes rounded outward from the double triangles about an anchor,
+// walked with the conservative double slab test (Ize 2013) and the double watertight kernel (Woop et al. 2013).
 #pragma once
 
 #include <array>
@@ -18,13 +17,6 @@
 #include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
-
-// The BVH in double: the tree is Bvh<AabbVolume> (any of its builders: binned SAH after Wald 2007, sweep, lbvh,
-// ploc, sbvh with object splits only) built over float boxes rounded outward from the double triangles taken relative
-// to an anchor (the centre of the scene's bounds), so every box contains its triangles exactly and keeps float's
-// resolution near the scene (not float's ulp at 1e7, which is 1); traversal tests a double ray against those boxes
-// conservatively (Ize 2013, geometry/ray_box_d.h) and leaves with the double watertight kernel (Woop, Benthin, Wald
-// 2013, geometry/ray_triangle_d.h).
 
 /// Far bound for culling boxes: hit.t widened by 2^-32 relative, so a triangle whose t ties the current hit within
 /// the kernel's rounding is still tested and the answer matches brute force (as bvh_cull_bound does for float).

@@ -20,18 +20,6 @@
 
 namespace rayaccel::generalized {
 
-// Primary visibility by beams (Heckbert & Hanrahan 1984), with the entry-point search of Reshetov, Soupikov & Hurley
-// 2005 ("Multi-level ray tracing algorithm"): the image is cut into square tiles; each tile's beam walks the tree
-// once. A beam that meets no primitive resolves its pixels as misses; a beam that meets one primitive, or whose
-// candidates prove one triangle in front of all the others (beam_front_of), tests each pixel's ray against that one
-// primitive with the single-ray kernel; any other beam splits in four, down to min_tile or until it holds more
-// candidates than max_candidates_per_pixel allows (fine meshes), and the rays still undecided are traced one by one
-// from the entry point: the deepest node holding every leaf in which the beam met a candidate.
-// Every pixel's hit is the one the structure's own intersect() returns, bit for bit: the beam holds its rays (checked
-// per ray), primitives outside it are never hit, the one-primitive test is the structure's own kernel, a proven front
-// triangle's computed t is below every other candidate's, and a traversal from the entry point tests the primitives a
-// ray can hit in the same order as one from the root (nodes outside it cannot change the hit).
-
 /// The rays of an image: width x height pixels; ray_at(x, y) is the ray through image-plane point (x, y) in pixels
 /// ((0, 0) the top-left corner, pixel (i, j)'s center at (i + 0.5, j + 0.5)). Every ray must start at one origin.
 struct PixelRays {

@@ -1,8 +1,6 @@
-// Analytic cone coverage (Amanatides 1984, "Ray tracing with cones"): the exact fraction of a cone's solid angle a
-// triangle covers, from the triangle clipped to the cone's axial range and projected from the apex onto the plane at
-// unit distance along the axis, then intersected with the cross-section disk edge by edge (each edge's triangle with
-// the disk centre split at the circle into flat pieces, measured by Van Oosterom & Strackee's solid angle, and arcs,
-// measured as cap sectors).
+// Analytic cone coverage (Amanatides 1984): the exact fraction of a cone's solid angle a triangle covers, from its
+// projection cut by the cross-section disk edge by edge (flat pieces by Van Oosterom & Strackee's solid angle, arcs
+// as cap sectors).
 #pragma once
 
 #include <array>

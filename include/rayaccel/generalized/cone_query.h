@@ -1,7 +1,6 @@
-// The cone query (Amanatides 1984): every primitive a cone may meet within its distance range, nearest first, each with
-// the fraction of the cone it covers. The tree is walked once with the conservative cone/volume tests of cone.h;
-// coverage is exact for triangles (cone_coverage.h) and accumulated front to back by Amanatides' rule, or measured on
-// the cone's direction pattern with the single-ray kernel (the option kept for comparison, and for other primitives).
+// The cone query (Amanatides 1984): every primitive a cone may meet, nearest first, with the fraction of the cone it
+// covers: one tree walk with cone.h's conservative tests, exact triangle coverage (cone_coverage.h) accumulated front
+// to back, or coverage measured on the cone's direction pattern with the single-ray kernel.
 #pragma once
 
 #include <algorithm>

@@ -1,5 +1,6 @@
-// How generalized rays (beams, cones) see a structure's tree: one view per family (Bvh<BV>, the wide BVH, the
-// kd-tree) with the root, the children a region may meet, a leaf's primitives and the entry-point traversal.
+// How generalized rays (beams, cones) see a structure's tree, one view per family (Bvh<BV>, wide BVH, kd-tree): the
+// root, the children a region may meet, a leaf's primitives, the entry-point traversal. A region is any type with
+// box_outside(AABB, slack) and sphere_outside(center, radius), true only when proven.
 #pragma once
 
 #include <algorithm>
@@ -15,12 +16,6 @@
 #include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel::generalized {
-
-// How generalized rays (beams, cones) see a structure's tree: the root, the children a region may meet (each child's
-// volume tested against the region conservatively), a leaf's primitives, and the structure's own single-ray
-// traversal started at any node (the entry point). One view per structure family: Bvh<BV>, the wide BVH, and the
-// kd-tree (whose rays always start at the root: its traversal walks cells front to back from the root cell).
-// A region is any type with box_outside(AABB, slack) and sphere_outside(center, radius), true only when proven.
 
 /// Growth of a box before a region test: covers boxes that a single ray's slab test accepts although the exact ray
 /// misses them by rounding (a relative 2^-16 of the box's largest coordinate dwarfs the slab test's few ulps), so a

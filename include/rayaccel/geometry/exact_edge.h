@@ -6,15 +6,6 @@
 
 namespace rayaccel {
 
-// The edge function of vertices p, q for the ray o + t d, in the ray's
-// sheared frame (axes kx, ky, kz, kz dominant), is
-//   E = X_p Y_q - Y_p X_q,  X = A_x - (d_x / d_z) A_z,  Y = A_y - (d_y / d_z) A_z,  A = vertex - o,
-// and E d_z = d_z (p_x q_y - p_y q_x) + d_x (p_y q_z - p_z q_y) + d_y (p_z q_x - p_x q_z) with p, q = A_p, A_q:
-// a sum of products of the float inputs, evaluated in double when a static error bound decides its sign, and
-// otherwise without any rounding by expansion arithmetic (Shewchuk 1997, "Adaptive Precision Floating-Point
-// Arithmetic and Fast Robust Geometric Predicates"). Compiled in the
-// library (src/geometry/exact_edge.cpp), so the caller's floating-point flags cannot change it.
-
 struct DVec3;  // core/dvec3.h: declared only, so the float code that includes this header does not see double types
 
 /// An edge function with its exact sign and its value to within `error`.

@@ -13,14 +13,8 @@
 
 namespace rayaccel {
 
-// Boxes far from the origin keep float's resolution near their anchor instead of float's ulp at their absolute
-// position (1 at 1e7). Per ray, the origin is moved into the anchor's frame
-// (o' = o - anchor, rounded) and each face plane is pushed outward by a slack of 8 ulps of |o'| (more than the error
-// of o'); the slab distances are then widened by 2*gamma(6), which covers the rounding of the pushed plane, of the
-// difference, of the reciprocal and of the product. So rounding never turns a ray that touches the closed box into
-// a miss. NaN slab distances (a ray parallel to and lying in a face plane) constrain nothing, and void rays (empty
-// interval) never hit, as in ray_box.h.
-
+/// Slab distances widened by 2 gamma(6): the rounding of the pushed plane, the difference, the reciprocal and the
+/// product (the plane push and the anchor: docs/design.md).
 inline constexpr double kSlabWidenUpD = 1.0 + 2.0 * double_gamma(6);
 inline constexpr double kSlabWidenDownD = 1.0 - 2.0 * double_gamma(6);
 

@@ -18,28 +18,6 @@
 
 namespace rayaccel {
 
-// Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)),
-// with every hit/miss decision exact for the float inputs. Edge functions are computed in float in the ray's sheared
-// frame, together with a bound on their rounding error (the error analysis of Pharr, Jakob, Humphreys, "Physically
-// Based Rendering", 3rd ed., section 3.9.6, with the shear's rounding counted in world units so that the bound holds
-// for any direction length). A float edge function beyond its bound has the sign of the exact one; edge functions
-// of opposite signs beyond their bounds are a miss. When any edge function lies inside its bound, or the bound is
-// large against the determinant (rays far from small triangles), all three are recomputed from the float inputs
-// (exact_edge.h: in double with a static error bound, else exactly by expansion arithmetic after Shewchuk 1997) with
-// their exact signs. So each edge's sign is that of the exact edge
-// function of the float ray and vertices: a ray through an edge or vertex of a closed mesh hits at least one
-// triangle (edges count as inside), and the same edge is decided the same way in both triangles that share it.
-// Triangles whose sheared coordinates leave [2^-40, 2^40] are first scaled by an exact power of two, so huge and tiny
-// scenes neither overflow nor underflow (results in the normal range are unchanged, bit for bit).
-// A hit counts only when its computed t exceeds t_min by more than a bound on the error of t. The bound uses that t is
-// a weighted mean of the vertices' distances with weights of known sign: the error of the weights moves t by at most
-// 3 (edge error / |det|) times the triangle's depth range along the ray, plus a few ulps of the vertices' distances,
-// so it stays a few ulps of t for a small triangle far from the origin (pbrt's bound grows with the square of the
-// distance over the triangle's size, and threw such hits away). Near t_min the bound keeps a ray leaving a surface
-// from "hitting" the plane it left at a small positive t that box culling (exactly conservative) rules out.
-// t is a ratio of sums of products of edge functions and vertex depths; for a huge triangle close to the origin
-// (depths tiny against its width) those products underflow float, so such triangles take t from double.
-
 /// The triangle relative to the ray origin in the ray's sheared frame: x, y after the shear, z before it.
 struct ShearedTriangle {
   float ax, ay, az, bx, by, bz, cx, cy, cz;

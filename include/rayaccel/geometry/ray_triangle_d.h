@@ -11,20 +11,6 @@
 
 namespace rayaccel {
 
-// Watertight ray/triangle intersection in double (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection",
-// JCGT 2(1)), with the rules of the float kernel (ray_triangle.h) carried over to double: edge functions in the ray's
-// sheared frame with a bound on their rounding error (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed.,
-// section 3.9.6, u = 2^-53); edge functions of opposite signs beyond their bounds are a miss; when one lies inside its
-// bound, or the bound is large against the determinant, all three are recomputed from the double inputs with their
-// exact signs (exact_edge.h: a static error bound, else expansion arithmetic after Shewchuk 1997). So each edge's
-// sign is that of the exact edge function of the double ray and vertices: edges and vertices count as inside, and a
-// ray through an edge shared by two triangles hits at least one of them. An exactly zero edge function puts the ray
-// on that edge (inside); all three zero, or a zero determinant, is a miss (a ray in the plane of a triangle, or a
-// triangle of zero area, is never hit). The inputs lie in the double domain (core/ray_d.h), where nothing the kernel
-// forms overflows or underflows, so no rescaling is needed.
-// A hit counts when t_min < t < hit.t and t clears t_min by the bound on t's error (as in the float kernel: 3 edge
-// error / |det| of the depth range plus gamma(12) of the farthest vertex distance).
-
 /// Constants of the double kernel's error bounds (double_gamma(n): the relative bound of n roundings).
 struct WatertightBoundsD {
   /// Multiplies a bound computed in double to cover the rounding of its own few operations.

@@ -19,41 +19,6 @@
 
 namespace rayaccel {
 
-// Rounding and watertightness. Each ray is mapped to an instance's object space once (origin and direction through
-// the inverse transform in double, each rounded to the nearest float: transform_ray() in affine.h), and every
-// triangle of that instance is tested against that one float ray by the bottom level's watertight test. So within
-// one instance the bottom level's guarantee holds unchanged: a ray through a shared edge or vertex of the instance's
-// mesh hits at least one of its triangles. Across instances there is no such guarantee: two instances whose meshes
-// meet along an edge in world space are tested against two differently rounded rays, so a ray through that edge may
-// miss both (as in Embree). The reported t is the bottom level's t for the mapped ray; the direction is mapped
-// linearly and not normalised, so it measures the world ray's parameter, up to the rounding of the mapped origin
-// and direction: each component of either is within half an ulp of the exact mapped value, so the hit point moves
-// by at most about 2^-24 * (|o'| + t |d'|) in object space (o', d' the mapped ray). Mapped back to the world, that
-// is a relative error of order 2^-24 times the transform's condition number, which tests/instance compares against
-// the flattened scene (every instance's vertices mapped in double, rounded to float).
-//
-// Several geometries side by side. An instance whose transform is exactly the identity (Affine3::is_identity())
-// traces the world ray itself, unmapped and unrounded, so geometries placed with the identity are tested against one
-// and the same float ray: a ray through an edge or vertex shared by triangles of two such geometries hits at least
-// one of them, as within one mesh. Mapping through the identity would not be exact (-0 becomes +0 in a direction,
-// and an infinite component becomes NaN through the zero entries).
-//
-// Enabling and disabling instances (set_enabled()) is a property of this structure, not of the scene: it is read
-// during the top-level traversal, so it needs no rebuild, and two structures over one scene may show different
-// subsets (as a ray mask would). The top level can be refitted after moves (update_top()): the tree is kept and its
-// boxes recomputed bottom-up, cheaper than rebuild_top() but slower to trace after large moves.
-// World boxes are the 8 mapped corners of each bottom level's bounds, rounded outward (transform_box()).
-//
-// The top level (option `top`). "bvh_top" is the TopLevelBvh above. Any other registry spec builds that structure
-// over a Scene of user primitives (Scene::from_user), one per instance: its bounds are the instance's world box and
-// its ray test maps the ray into the instance (as above) and traces the bottom level, reporting the instance index
-// as prim_id. The bottom level's primitive, u and v are then recovered by tracing that one instance again with t up
-// to the reported t (inclusive), so no structure's internal order of tests matters. Both traces read the ray's
-// direction as the kernels do (readable_direction(): subnormal components are zero) before mapping it. occluded()
-// asks the top structure's occluded(); its per-instance test is the bottom level's closest hit, as a user primitive
-// must report its t. A structure that cannot take user primitives is refused with an Error naming it. The default is
-// "bvh_top", the fastest top level measured (BENCHMARKS.md, "Instances: two levels").
-
 /// A closest hit in an instanced scene: the bottom level's Hit fields (t, prim_id and u, v of the geometry's
 /// primitive) plus which instance and geometry it was found in. A miss has t = +inf and every id kInvalidPrimId.
 struct InstanceHit {

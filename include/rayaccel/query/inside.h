@@ -11,14 +11,6 @@
 
 namespace rayaccel {
 
-// Inside tests for batches of points. Crossing parity: a ray from the point crosses a closed surface an odd number of
-// times exactly when the point is inside (the Jordan-Brouwer theorem); crossings are counted once each, also through
-// edges and vertices (Accelerator::count_hits, geometry/crossing.h), so every ray of a closed mesh agrees, and the
-// majority over several rays in fixed, unrelated directions tolerates small holes. The generalised winding number
-// (Jacobson, Kavan, Sorkine-Hornung 2013, "Robust Inside-Outside Segmentation using Generalized Winding Numbers")
-// sums the signed solid angles of the triangles seen from the point (Van Oosterom & Strackee 1983): 1 inside a
-// closed, outward-oriented mesh, 0 outside, and a smooth value in between where the mesh has holes.
-
 struct ParityInsideConfig {
   /// Rays per point, 1..7, odd so the vote cannot tie. Their directions are fixed and none is parallel to an axis or
   /// to a diagonal, so axis-aligned and diagonal faces are not met edge-on.

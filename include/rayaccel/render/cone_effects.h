@@ -13,13 +13,6 @@
 
 namespace rayaccel {
 
-// Two uses of cones in the renderer (Amanatides 1984, "Ray tracing with cones"), each beside the many-ray estimate it
-// replaces: soft shadows from a spherical light (the fraction of the light's cone left unblocked, from one cone per
-// shading point, against shadow rays to random directions in the same cone), and anti-aliasing with one cone per
-// pixel (the pixel's circumscribed cone, colours weighted by the share of it each primitive is the closest hit on,
-// against random camera rays in the same cone). Both sides estimate the same integral, so their errors against a
-// high-sample reference compare directly.
-
 enum class ConeEffect { soft_shadows, anti_aliasing };
 /// Parses "shadows" or "aa"; throws Error naming both otherwise.
 ConeEffect parse_cone_effect(std::string_view text);

@@ -17,13 +17,7 @@
 
 namespace rayaccel {
 
-// The recursive ray tracer (Whitted 1980): diffuse shading under point and spherical lights with shadow rays,
-// mirror reflection, and dielectric reflection and refraction weighted by the Fresnel equations. Two ways of
-// tracing fewer rays are built in: adaptive tree-depth control (Hall & Greenberg 1983: a secondary ray whose weight
-// in the pixel falls below a threshold is not traced) and any-hit shadow rays that stop at the first occluder;
-// anti-aliasing by adaptive corner sampling is in image_sampler.h.
-
-/// Rays traced by kind and the traversal work they cost.
+/// Rays traced by kind and the traversal work they cost (plain counters, as SplitTreeCounts and BeamStats hold theirs).
 struct RayCounts {
   std::uint64_t camera = 0;
   std::uint64_t shadow = 0;

@@ -1,7 +1,5 @@
-// Scene loading: mesh files (PLY by our own reader; OBJ, glTF, STL, ... through assimp) and built-in procedural
-// scenes by name.
-// Primitive id = triangle index in file order; polygons are fan-triangulated in order (the .rays/.hits files of
-// other tools rely on this).
+// Scene loading: mesh files (PLY by our own reader; OBJ, glTF, STL, ... through assimp) and built-in scenes by
+// name. Primitive id = triangle index in file order, polygons fan-triangulated (other tools' .rays/.hits rely on it).
 #pragma once
 
 #include <array>

@@ -17,7 +17,7 @@ namespace rayaccel::simd {
 /// The origin the wide box tests use, and the slack that makes up for it. A ray leaving an exact point on a plane at
 /// 0 (a floor at y = 0, say) starts a subnormal distance from it (pbrt-style origin offsets give 2^-149), and
 /// (plane - origin) * 1/d then computes with subnormals at every node, which costs a microcode assist per operation
-/// (teapot_stadium's secondary rays spent 14% of their time in one such multiply). Such a coordinate (0 < |o| <
+/// (BENCHMARKS.md, "Option choices", has what it cost). Such a coordinate (0 < |o| <
 /// FLT_MIN, on an axis the ray is not parallel to) is replaced by 0 for the box tests only, which moves that axis's
 /// slab distances by s = o/d exactly; the interval is then widened by slab_shift >= 4|s| (and at least FLT_MIN, so the
 /// widening itself is normal arithmetic) on both ends, after the relative widening by the factors below, which are

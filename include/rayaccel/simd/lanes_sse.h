@@ -9,7 +9,8 @@
 
 namespace rayaccel::simd {
 
-/// The SIMD operations the kernels are written over, four lanes of SSE2.
+/// The SIMD operations the kernels are written over, four lanes of SSE2: one wrapper per intrinsic, alike line by
+/// line as in lanes_avx2.h and lanes_avx512.h.
 struct Sse4 {
   static constexpr int kWidth = 4;
   using F = __m128;

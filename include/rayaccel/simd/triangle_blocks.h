@@ -1,7 +1,5 @@
-// Runs of Triangle4 blocks, as the structures' leaves and cells hold them: packing a list of triangle ids into SoA
-// blocks of four (copies of the vertices), and the
-// test of a run of blocks with the watertight SIMD kernel of watertight_lanes.h (Woop, Benthin, Wald 2013; four
-// lanes with SSE2 or two blocks at once with AVX2), optionally through a block mailbox (block_mailbox.h).
+// Runs of Triangle4 blocks as leaves and cells hold them: triangle ids packed into SoA blocks of four, and a run
+// tested with the watertight SIMD kernel (Woop, Benthin, Wald 2013), optionally through a block mailbox.
 #pragma once
 
 #include <array>
