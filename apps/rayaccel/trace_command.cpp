@@ -1,5 +1,6 @@
 // `rayaccel trace SCENE RAYS`: build (median of three) or --load, trace a .rays file R times (median), --save, write
-// .hits or .occ and one JSON summary line; --precision double and --instances hand over to their own files.
+// .hits or .occ and one JSON summary line (--skip / --mask: companion .ids files, a query context); --precision double
+// and --instances hand over to their own files.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -16,7 +17,9 @@
 #include "trace_passes.h"
 #include "trace_instanced.h"
 #include "rayaccel/accel/registry.h"
+#include "rayaccel/core/error.h"
 #include "rayaccel/core/output_batch.h"
+#include "rayaccel/core/query_context.h"
 #include "rayaccel/scene/ray_io.h"
 
 namespace rayaccel::cli {
@@ -39,7 +42,21 @@ struct TraceArgs {
   bool instances = false;               ///< the two-level trace (trace_instanced.h)
   std::vector<std::string> geometries;  ///< --geometry, with --instances only
   std::string top;                      ///< --top, with --instances only
+  std::string skip;                     ///< --skip: .ids file, a primitive per ray to ignore
+  std::string mask;                     ///< --mask: .ids file, a ray mask per ray
+  std::uint32_t geometry_mask = ~0u;    ///< --geometry-mask: the scene's (one geometry's) mask
 };
+
+/// Reads a companion .ids file of --skip or --mask (one uint32 per ray); Error naming the file and both counts when
+/// it does not match the rays.
+std::vector<std::uint32_t> read_companion(const std::string& path, std::size_t rays, const char* option) {
+  std::vector<std::uint32_t> ids = read_ids(path);
+  if (ids.size() != rays) {
+    throw Error(std::string(option) + " '" + path + "': " + std::to_string(ids.size()) + " entries for " +
+                std::to_string(rays) + " rays (one uint32 per ray)");
+  }
+  return ids;
+}
 
 /// --precision double: refuses the options the double path lacks, then runs it.
 int run_trace_double_checked(const TraceArgs& args) {
@@ -67,6 +84,10 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (args.instances && args.precision == "double") {
     throw UsageError("--instances traces in float; it cannot be combined with --precision double");
   }
+  const bool with_context = !args.skip.empty() || !args.mask.empty() || args.geometry_mask != ~0u;
+  if (with_context && (args.instances || args.precision == "double" || args.packets)) {
+    throw UsageError("--skip, --mask and --geometry-mask work without --instances, --precision double and --packets");
+  }
   if (args.instances) return run_trace_instanced_hook(args, threads_given);
   if (!args.geometries.empty()) throw UsageError("--geometry needs --instances");
   if (!args.top.empty()) throw UsageError("--top needs --instances");
@@ -93,6 +114,15 @@ int run_trace(const TraceArgs& args, bool threads_given) {
 
   const Scene scene = load_scene_checked(args.scene);
   const std::vector<Ray> rays = read_rays(args.rays);
+  // The query context of --skip, --mask and --geometry-mask (off when none is given).
+  std::vector<std::uint32_t> skip, mask;
+  if (!args.skip.empty()) skip = read_companion(args.skip, rays.size(), "--skip");
+  if (!args.mask.empty()) mask = read_companion(args.mask, rays.size(), "--mask");
+  const std::uint32_t geometry_masks[1] = {args.geometry_mask};
+  QueryContext context;
+  context.skip_primitive = skip;
+  context.ray_mask = mask;
+  if (with_context) context.geometry_mask = geometry_masks;
 
   std::vector<double> build_ms;
   double load_ms = 0.0;
@@ -116,14 +146,18 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   const TracePasses passes = run_trace_passes<Hit>(
       rays.size(), args.occlusion, args.repeat, args.out.empty() ? std::string() : outputs.stage(args.out).string(),
       [&](std::span<Hit> hits) {
-        if (args.packets) {
+        if (with_context) {
+          accel->intersect(context, rays, hits);
+        } else if (args.packets) {
           accel->intersect_packets(rays, hits);
         } else {
           accel->intersect(rays, hits);
         }
       },
       [&](std::span<std::uint8_t> occluded) {
-        if (args.packets) {
+        if (with_context) {
+          accel->occluded(context, rays, occluded);
+        } else if (args.packets) {
           accel->occluded_packets(rays, occluded);
         } else {
           accel->occluded(rays, occluded);
@@ -154,6 +188,8 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   outputs.commit();
   if (!args.save.empty()) summary["saved_to"] = args.save;
   if (!args.out.empty()) summary["out"] = args.out;
+  if (!args.skip.empty()) summary["skip"] = args.skip;
+  if (!args.mask.empty()) summary["mask"] = args.mask;
   fmt::print("{}\n", summary.dump());
   return 0;
 }
@@ -196,6 +232,12 @@ Command add_trace_command(CLI::App& root) {
                   "With --instances: one more mesh file or builtin scene, placed with the identity beside SCENE "
                   "(repeatable)")
       ->allow_extra_args(false);
+  app->add_option("--skip", args->skip,
+                  "A .ids file (uint32 per ray, 0xFFFFFFFF: none): the primitive each ray ignores, e.g. the surface "
+                  "it leaves; tested before the exact triangle test");
+  app->add_option("--mask", args->mask,
+                  "A .ids file of ray masks (uint32 per ray): a ray sees the scene when mask & --geometry-mask != 0");
+  app->add_option("--geometry-mask", args->geometry_mask, "The scene's mask for --mask (default all ones)");
   app->add_option("--top", args->top,
                   "With --instances: the top level, bvh_top (the BVH over instance boxes, the default) or any "
                   "structure spec, built over one user primitive per instance");

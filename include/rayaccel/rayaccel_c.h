@@ -82,6 +82,40 @@ rayaccel_status rayaccel_intersect_packets(const rayaccel_accel* accel, const ra
 rayaccel_status rayaccel_occluded_packets(const rayaccel_accel* accel, const rayaccel_ray* rays, size_t count,
                                           uint8_t* occluded);
 
+/* Skip, masks and filters (Embree's ray mask, geometry mask and intersection filter). A hit a leaf finds, offered to
+ * a filter before it is kept: the triangle (prim_id within geometry geom_id), t, u, v, and the ray's index in the
+ * call's array. */
+typedef struct rayaccel_candidate {
+  uint32_t geom_id, prim_id;
+  float t, u, v;
+  size_t ray_index;
+} rayaccel_candidate;
+/* Returns nonzero to accept the candidate, 0 to reject it (traversal goes on as if the triangle were not there for
+ * this ray). Called only for candidates closer than the closest accepted so far, in any order, possibly on several
+ * threads at once; it must not call back into rayaccel. */
+typedef int (*rayaccel_filter)(void* user_data, const rayaccel_candidate* candidate);
+/* The optional controls of a batch: every pointer may be null (that control off); the per-ray arrays hold one entry
+ * per ray of the call. A triangle of geometry g is a candidate of ray i only when it is not (skip_geom_id[i],
+ * skip_prim_id[i]), g != skip_geometry[i] and (ray_mask[i] & the geometry's mask) != 0 (rayaccel_scene_set_mask),
+ * all tested before the exact triangle test; then filter must accept it. RAYACCEL_INVALID_ID skips nothing. */
+typedef struct rayaccel_query_context {
+  const uint32_t* skip_geom_id; /* per ray, with skip_prim_id: the triangle the ray leaves (its own surface) */
+  const uint32_t* skip_prim_id; /* per ray */
+  const uint32_t* skip_geometry; /* per ray: a whole geometry the ray ignores */
+  const uint32_t* ray_mask; /* per ray; null: all ones */
+  rayaccel_filter filter; /* null: every candidate is accepted */
+  void* filter_data;
+} rayaccel_query_context;
+/* Sets geometry geom_id's mask (all ones until set; 0 disables the geometry), read by the calls below; no rebuild is
+ * needed. Not while queries over the scene run. */
+rayaccel_status rayaccel_scene_set_mask(rayaccel_scene* scene, uint32_t geom_id, uint32_t mask);
+/* The batch calls under a context (null: no per-ray controls; the geometry masks still apply to an all-ones ray
+ * mask). A single ray is a batch of one. */
+rayaccel_status rayaccel_intersect_context(const rayaccel_accel* accel, const rayaccel_query_context* context,
+                                           const rayaccel_ray* rays, size_t count, rayaccel_hit* hits);
+rayaccel_status rayaccel_occluded_context(const rayaccel_accel* accel, const rayaccel_query_context* context,
+                                          const rayaccel_ray* rays, size_t count, uint8_t* occluded);
+
 #ifdef __cplusplus
 }
 #endif

@@ -123,6 +123,29 @@ def thread_limit(count):
         set_threads(before)
 
 
+def _controls(skip, skip_geometry, mask, geometry_mask, geometries, enabled):
+    """The query controls as the C++ side takes them (flat uint32 per-ray arrays, enabled as bool), or None when
+    none is given."""
+    if all(c is None for c in (skip, skip_geometry, mask, geometry_mask, geometries, enabled)):
+        return None
+    if geometries is not None and not isinstance(geometries, GeometryTable):
+        raise TypeError(f"geometries must be a rayaccel.GeometryTable, not {type(geometries).__name__}")
+
+    def ids(a, name):
+        if a is None:
+            return None
+        a = np.asarray(a)
+        if a.dtype.kind not in "iu":
+            raise TypeError(f"{name} must be an array of integers, not {a.dtype}")
+        if a.size and (a.min() < -1 or a.max() > 2**32 - 1):
+            raise ValueError(f"{name} holds values outside [0, 2**32 - 1] (-1 also means none)")
+        return np.ascontiguousarray(a.astype(np.int64) & 0xFFFFFFFF, dtype=np.uint32).reshape(-1)
+
+    on = None if enabled is None else np.ascontiguousarray(np.asarray(enabled) != 0, dtype=np.uint8).reshape(-1)
+    return (ids(skip, "skip"), ids(skip_geometry, "skip_geometry"), ids(mask, "mask"),
+            ids(geometry_mask, "geometry_mask"), geometries, on)
+
+
 class Accelerator(_core._Accelerator):
     """One acceleration structure from a spec ("bvh_wide", "kdtree:builder=sah", ...), built over one Scene.
 
@@ -144,29 +167,49 @@ class Accelerator(_core._Accelerator):
         return f"<rayaccel.Accelerator '{self.spec}' {state}>"
 
     def intersect(self, rays, directions=None, t_min=None, t_max=None, *, points=False, normals=False,
-                  stats=False, packets=False, check=True, out=None):
+                  stats=False, packets=False, check=True, out=None, skip=None, skip_geometry=None, mask=None,
+                  geometry_mask=None, geometries=None, enabled=None):
         """Closest hits as Hits (t, prim_id, u, v shaped like the rays; points and normals, per-ray statistics on
         request). packets=True traces each run of eight rays as one packet (intersect_packets(): for coherent rays,
         such as camera rays in 4 x 2 pixel tiles, see packet_tile_order(); same closest hits, no statistics). out: the Hits of an earlier
-        call with as many rays, overwritten instead of allocating new records (for loops over same-sized batches)."""
+        call with as many rays, overwritten instead of allocating new records (for loops over same-sized batches).
+
+        Query controls (tested in C++ before the exact primitive test; see README, "Skip, masks and filters"):
+        skip / skip_geometry: per ray, a primitive / geometry id the ray ignores (MISS: none), e.g. the surface a
+        secondary ray leaves; mask: per-ray uint32 masks and geometry_mask: per-geometry masks (geometries: the
+        GeometryTable of rayaccel.meshes(); without it the scene is one geometry), a geometry being seen when
+        mask & geometry_mask != 0 (Embree's rule; a geometry mask of 0 disables it without a rebuild); enabled: per
+        primitive, False hides it (cut-outs, an opacity array > 0). Not with stats or packets."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
         if out is not None:
             if not isinstance(out, Hits):
                 raise TypeError(f"out must be the Hits of an earlier intersect(), not {type(out).__name__}")
             out = out.records.reshape(-1).view(np.uint8).reshape(-1, HIT_DTYPE.itemsize)
-        records, counts = self._intersect(flat, bool(stats), bool(packets), bool(check), out)
+        controls = _controls(skip, skip_geometry, mask, geometry_mask, geometries, enabled)
+        if controls is not None:
+            if stats or packets:
+                raise ValueError("skip, skip_geometry, mask, geometry_mask and enabled work without stats and packets")
+            records, counts = self._trace_in_context(flat, False, bool(check), out, *controls), None
+        else:
+            records, counts = self._intersect(flat, bool(stats), bool(packets), bool(check), out)
         p = n = None
         if points or normals:
             p, n = self._surface(flat, records)
         return Hits(records, shape, p if points else None, n if normals else None,
                     None if counts is None else TraversalStats(counts, shape))
 
-    def occluded(self, rays, directions=None, t_min=None, t_max=None, *, stats=False, packets=False, check=True):
+    def occluded(self, rays, directions=None, t_min=None, t_max=None, *, stats=False, packets=False, check=True,
+                 skip=None, skip_geometry=None, mask=None, geometry_mask=None, geometries=None, enabled=None):
         """Any hit: a bool array shaped like the rays (True: something lies at t_min < t <= t_max). With stats=True,
         returns (occluded, TraversalStats). packets=True traces each run of eight rays as one packet
         (occluded_packets(): for coherent rays, such as shadow rays of neighbouring pixels to one light; the same
-        answers, no statistics)."""
+        answers, no statistics). skip, skip_geometry, mask, geometry_mask, geometries, enabled: as for intersect()."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
+        controls = _controls(skip, skip_geometry, mask, geometry_mask, geometries, enabled)
+        if controls is not None:
+            if stats or packets:
+                raise ValueError("skip, skip_geometry, mask, geometry_mask and enabled work without stats and packets")
+            return self._trace_in_context(flat, True, bool(check), None, *controls).reshape(shape)
         answers, counts = self._occluded(flat, bool(stats), bool(packets), bool(check))
         answers = answers.reshape(shape)
         return (answers, TraversalStats(counts, shape)) if stats else answers

@@ -114,15 +114,24 @@ class Accelerator:
     def supports_save(self) -> bool: ...
     def intersect(self, rays: ArrayLike, directions: Optional[ArrayLike] = ..., t_min: Optional[ArrayLike] = ...,
                   t_max: Optional[ArrayLike] = ..., *, points: bool = ..., normals: bool = ..., stats: bool = ...,
-                  packets: bool = ..., check: bool = ..., out: Optional[Hits] = ...) -> Hits: ...
+                  packets: bool = ..., check: bool = ..., out: Optional[Hits] = ..., skip: Optional[ArrayLike] = ...,
+                  skip_geometry: Optional[ArrayLike] = ..., mask: Optional[ArrayLike] = ...,
+                  geometry_mask: Optional[ArrayLike] = ..., geometries: Optional[GeometryTable] = ...,
+                  enabled: Optional[ArrayLike] = ...) -> Hits: ...
     @overload
     def occluded(self, rays: ArrayLike, directions: Optional[ArrayLike] = ..., t_min: Optional[ArrayLike] = ...,
                  t_max: Optional[ArrayLike] = ..., *, stats: Literal[False] = ..., packets: bool = ...,
-                 check: bool = ...) -> NDArray[np.bool_]: ...
+                 check: bool = ..., skip: Optional[ArrayLike] = ...,
+                 skip_geometry: Optional[ArrayLike] = ..., mask: Optional[ArrayLike] = ...,
+                 geometry_mask: Optional[ArrayLike] = ..., geometries: Optional[GeometryTable] = ...,
+                 enabled: Optional[ArrayLike] = ...) -> NDArray[np.bool_]: ...
     @overload
     def occluded(self, rays: ArrayLike, directions: Optional[ArrayLike] = ..., t_min: Optional[ArrayLike] = ...,
                  t_max: Optional[ArrayLike] = ..., *, stats: Literal[True], packets: bool = ...,
-                 check: bool = ...) -> Tuple[NDArray[np.bool_], TraversalStats]: ...
+                 check: bool = ..., skip: Optional[ArrayLike] = ...,
+                 skip_geometry: Optional[ArrayLike] = ..., mask: Optional[ArrayLike] = ...,
+                 geometry_mask: Optional[ArrayLike] = ..., geometries: Optional[GeometryTable] = ...,
+                 enabled: Optional[ArrayLike] = ...) -> Tuple[NDArray[np.bool_], TraversalStats]: ...
     def all_hits(self, rays: ArrayLike, directions: Optional[ArrayLike] = ..., t_min: Optional[ArrayLike] = ...,
                  t_max: Optional[ArrayLike] = ..., *, max_hits: int = ...,
                  check: bool = ...) -> Tuple[NDArray[np.uint32], NDArray[np.void]]: ...

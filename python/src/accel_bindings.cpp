@@ -14,6 +14,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "locked_structure.h"
+#include "query_context_arrays.h"
 #include "rayaccel/render/shading.h"
 #include "rayaccel/accel/default_spec.h"
 #include "rayaccel/accel/registry.h"
@@ -104,6 +105,33 @@ class PyAccelerator : public LockedStructure<PyAccelerator, Accelerator, Scene> 
         rays_object, with_stats, packets, check, [](std::size_t n) { return answer_array(n); },
         [](const Accelerator& accel, auto rays, auto answers, auto stats) { accel.occluded(rays, answers, stats); },
         [](const Accelerator& accel, auto rays, auto answers) { accel.occluded_packets(rays, answers); });
+  }
+
+  /// Closest hits ((N, 16) uint8 records, written into `out` when given) or, with `any`, any hits ((N,) bool) under
+  /// the query controls (see ContextArrays): skipped primitives and geometries, masks, primitive switches.
+  py::object trace_in_context(const py::handle& rays_object, bool any, bool check, const py::object& out,
+                              const py::object& skip, const py::object& skip_geometry, const py::object& mask,
+                              const py::object& geometry_mask, const std::shared_ptr<GeometryTable>& geometries,
+                              const py::object& enabled) const {
+    const BatchRays<Ray> batch(rays_object);
+    const std::span<const Ray> rays = batch.rays;
+    const std::shared_ptr<Scene> built_over = scene();
+    if (!built_over) read_built([](const Accelerator&) {});  // raises the not-built ValueError
+    const ContextArrays controls(skip, skip_geometry, mask, geometry_mask, geometries, enabled, rays.size(),
+                                 *built_over);
+    if (any) {
+      auto [answers, answer_span] = answer_array(rays.size());
+      trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+        accel.occluded(controls.slice(begin, end), rays.subspan(begin, end - begin),
+                       answer_span.subspan(begin, end - begin));
+      });
+      return answers;
+    }
+    auto [records, hits] = record_array<Hit>(rays.size(), out);
+    trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
+      accel.intersect(controls.slice(begin, end), rays.subspan(begin, end - begin), hits.subspan(begin, end - begin));
+    });
+    return records;
   }
 
   /// Hit points (recomputed from the primitive) and unit geometric normals, (N, 3) float32 each, NaN at misses.
@@ -302,6 +330,9 @@ void bind_accelerator(py::module_& m) {
            py::arg("check"), py::arg("out"))
       .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("packets"),
            py::arg("check"))
+      .def("_trace_in_context", &PyAccelerator::trace_in_context, py::arg("rays"), py::arg("any"), py::arg("check"),
+           py::arg("out"), py::arg("skip"), py::arg("skip_geometry"), py::arg("mask"), py::arg("geometry_mask"),
+           py::arg("geometries"), py::arg("enabled"))
       .def("_surface", &PyAccelerator::surface, py::arg("rays"), py::arg("records"))
       .def("_all_hits", &PyAccelerator::all_hits, py::arg("rays"), py::arg("max_hits"), py::arg("check"))
       .def("_count_hits", &PyAccelerator::count_hits, py::arg("rays"), py::arg("check"))

@@ -7,6 +7,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -44,6 +45,15 @@ void Accelerator::save(const std::filesystem::path& path) const {
 }
 void Accelerator::load(const std::filesystem::path& path, const Scene&) {
   lacks(*this, "load from '" + path.string() + "'", "saved structures: bvh (every volume) and bvh_wide");
+}
+
+Hit Accelerator::intersect(const QueryContext&, const Ray&, std::size_t) const { detail::refuse_context(*this); }
+bool Accelerator::occluded(const QueryContext&, const Ray&, std::size_t) const { detail::refuse_context(*this); }
+void Accelerator::intersect(const QueryContext&, std::span<const Ray>, std::span<Hit>) const {
+  detail::refuse_context(*this);
+}
+void Accelerator::occluded(const QueryContext&, std::span<const Ray>, std::span<std::uint8_t>) const {
+  detail::refuse_context(*this);
 }
 
 std::size_t Accelerator::all_hits(const Ray&, std::vector<Hit>&, std::size_t) const { unsupported(*this, "all-hits"); }
@@ -125,6 +135,42 @@ void parallel_for_packets(std::size_t count, const std::function<void(std::size_
   parallel_for_rays((count + kPacketSize - 1) / kPacketSize, [&](std::size_t begin, std::size_t end) {
     body(begin * kPacketSize, std::min(end * kPacketSize, count));
   });
+}
+
+namespace {
+/// The context's per-ray arrays with their names, for the checks below.
+struct PerRayArray {
+  const char* name;
+  std::size_t size;
+};
+std::array<PerRayArray, 3> per_ray_arrays(const QueryContext& context) {
+  return {{{"skip_primitive", context.skip_primitive.size()},
+           {"skip_geometry", context.skip_geometry.size()},
+           {"ray_mask", context.ray_mask.size()}}};
+}
+}  // namespace
+
+void check_context_sizes(const QueryContext& context, std::size_t rays) {
+  for (const PerRayArray& a : per_ray_arrays(context)) {
+    if (a.size != 0 && a.size != rays) {
+      throw Error("query context: " + std::string(a.name) + " has " + std::to_string(a.size) + " entries for " +
+                  std::to_string(rays) + " rays (one per ray, or none)");
+    }
+  }
+}
+
+void check_context_index(const QueryContext& context, std::size_t ray_index) {
+  for (const PerRayArray& a : per_ray_arrays(context)) {
+    if (a.size != 0 && a.size <= ray_index) {
+      throw Error("query context: " + std::string(a.name) + " has " + std::to_string(a.size) +
+                  " entries, none for ray index " + std::to_string(ray_index));
+    }
+  }
+}
+
+void refuse_context(const Accelerator& accel) {
+  throw Error("query contexts (skip, masks, filters): " + structure_name(accel) +
+              " does not support them; every rayaccel structure does");
 }
 
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats) {

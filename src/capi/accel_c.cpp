@@ -1,5 +1,5 @@
 // The C API's structures: built by registry spec over a C scene; closest-hit and any-hit queries for one ray, batches
-// and packets, with hits reported as (geometry id, primitive within the geometry).
+// and packets, with or without a query context, with hits reported as (geometry id, primitive within the geometry).
 #include <cstring>
 #include <vector>
 
@@ -60,7 +60,72 @@ void trace_occluded(const rayaccel_accel* accel, const rayaccel_ray* rays, size_
   trace(*accel->structure, std::span<const rayaccel::Ray>(in), std::span<std::uint8_t>(out, count));
 }
 
+/// A rayaccel_query_context as the library's QueryContext over `count` rays: (geometry, primitive) skips turned into
+/// scene-wide ids, the scene's geometry masks, and the C filter behind a trampoline that reports local ids.
+class CContext {
+ public:
+  CContext(const rayaccel_accel& accel, const rayaccel_query_context* c, size_t count)
+      : table_(accel.scene->geometries), filter_(c ? c->filter : nullptr), data_(c ? c->filter_data : nullptr) {
+    context_.geometry_starts = table_.starts();
+    context_.geometry_mask = accel.scene->masks;
+    if (!c) return;
+    if ((c->skip_geom_id == nullptr) != (c->skip_prim_id == nullptr)) {
+      throw Failure{RAYACCEL_INVALID_ARGUMENT, "skip_geom_id and skip_prim_id go together (both set or both null)"};
+    }
+    if (count > 0 && c->skip_prim_id) {
+      skip_.resize(count);
+      for (size_t i = 0; i < count; ++i) {
+        const uint32_t g = c->skip_geom_id[i], p = c->skip_prim_id[i];
+        skip_[i] = g < table_.geometry_count() && p < table_.primitive_count(g) ? table_.first_primitive(g) + p
+                                                                                 : rayaccel::kInvalidPrimId;
+      }
+      context_.skip_primitive = skip_;
+    }
+    if (count > 0 && c->skip_geometry) context_.skip_geometry = {c->skip_geometry, count};
+    if (count > 0 && c->ray_mask) context_.ray_mask = {c->ray_mask, count};
+    if (filter_) {
+      context_.filter = [](void* self, const rayaccel::HitCandidate& h) {
+        const auto& me = *static_cast<const CContext*>(self);
+        const rayaccel_candidate c{h.geom_id, me.table_.local_primitive(h.prim_id), h.t, h.u, h.v, h.ray_index};
+        return me.filter_(me.data_, &c) != 0;
+      };
+      context_.filter_data = this;
+    }
+  }
+  CContext(const CContext&) = delete;
+  const rayaccel::QueryContext& context() const { return context_; }
+
+ private:
+  const rayaccel::GeometryTable& table_;
+  rayaccel_filter filter_;
+  void* data_;
+  std::vector<std::uint32_t> skip_;
+  rayaccel::QueryContext context_;
+};
+
 }  // namespace
+
+extern "C" rayaccel_status rayaccel_intersect_context(const rayaccel_accel* accel,
+                                                      const rayaccel_query_context* context, const rayaccel_ray* rays,
+                                                      size_t count, rayaccel_hit* hits) {
+  return guarded("rayaccel_intersect_context", [&] {
+    require(accel, "accel");
+    const CContext c(*accel, context, count);
+    trace_hits(accel, rays, count, hits,
+               [&](const rayaccel::Accelerator& a, auto in, auto out) { a.intersect(c.context(), in, out); });
+  });
+}
+
+extern "C" rayaccel_status rayaccel_occluded_context(const rayaccel_accel* accel,
+                                                     const rayaccel_query_context* context, const rayaccel_ray* rays,
+                                                     size_t count, uint8_t* occluded) {
+  return guarded("rayaccel_occluded_context", [&] {
+    require(accel, "accel");
+    const CContext c(*accel, context, count);
+    trace_occluded(accel, rays, count, occluded,
+                   [&](const rayaccel::Accelerator& a, auto in, auto out) { a.occluded(c.context(), in, out); });
+  });
+}
 
 extern "C" rayaccel_status rayaccel_accel_new(rayaccel_scene* scene, const char* spec, rayaccel_accel** out) {
   return guarded("rayaccel_accel_new", [&] {

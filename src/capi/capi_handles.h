@@ -20,6 +20,7 @@ struct SceneState {
   std::mutex mutex;  // guards meshes and scene while a scene is being filled or committed
   std::vector<TriangleMesh> meshes;
   GeometryTable geometries;
+  std::vector<std::uint32_t> masks;  // per geometry (rayaccel_scene_set_mask); all ones until set
   std::optional<Scene> scene;  // set once; then immutable, read by every structure built over it
 };
 

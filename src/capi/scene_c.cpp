@@ -81,3 +81,18 @@ extern "C" rayaccel_status rayaccel_scene_primitive_count(const rayaccel_scene* 
     *count = scene->state->geometries.primitive_count();
   });
 }
+
+extern "C" rayaccel_status rayaccel_scene_set_mask(rayaccel_scene* scene, uint32_t geom_id, uint32_t mask) {
+  return guarded("rayaccel_scene_set_mask", [&] {
+    require(scene, "scene");
+    auto& state = *scene->state;
+    const std::lock_guard lock(state.mutex);
+    if (geom_id >= state.geometries.geometry_count()) {
+      throw Failure{RAYACCEL_INVALID_ARGUMENT, "geometry " + std::to_string(geom_id) +
+                                                   " does not exist (the scene has " +
+                                                   std::to_string(state.geometries.geometry_count()) + ")"};
+    }
+    if (state.masks.size() <= geom_id) state.masks.resize(state.geometries.geometry_count(), ~0u);
+    state.masks[geom_id] = mask;
+  });
+}

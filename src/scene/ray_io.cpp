@@ -169,6 +169,14 @@ void write_counts(const std::filesystem::path& path, std::span<const std::uint32
   write_records<std::uint32_t>(path, counts, "count");
 }
 
+std::vector<std::uint32_t> read_ids(const std::filesystem::path& path) {
+  return read_records<std::uint32_t>(path, "id");
+}
+
+void write_ids(const std::filesystem::path& path, std::span<const std::uint32_t> ids) {
+  write_records<std::uint32_t>(path, ids, "id");
+}
+
 std::vector<RayD> read_rays_d(const std::filesystem::path& path) {
   check_ray_extension(path, ".rays", "double rays are .rays64 (trace .rays files without --precision double)");
   return read_records<RayD, 8>(path, "ray");

@@ -1,5 +1,6 @@
 /* The C API from plain C11 (CTest capi.c11): two meshes, several structures, one ray, batches and packets agreeing bit
- * for bit, geometry ids, and every error path returning a code and a message instead of crashing. */
+ * for bit, geometry ids, skip / masks / filters through a query context, and every error path returning a code and a
+ * message instead of crashing. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -82,6 +83,52 @@ static void check_structure(rayaccel_scene* scene, const char* spec) {
   rayaccel_accel_release(accel);
 }
 
+/* A filter that rejects geometry 1 (the roof) and counts the candidates it saw with a bad ray index. */
+static int reject_roof(void* data, const rayaccel_candidate* c) {
+  if (c->ray_index >= 2) ++*(int*)data;
+  return c->geom_id != 1;
+}
+
+/* Skip, masks and a filter: each hides the roof from the ray under it, which then hits the floor at t = 2. */
+static void check_context(rayaccel_scene* scene, const char* spec) {
+  rayaccel_accel* accel = NULL;
+  CHECK(rayaccel_accel_new(scene, spec, &accel) == RAYACCEL_OK);
+  const rayaccel_ray rays[2] = {down_ray(0.5f, 0.3f), down_ray(0.3f, 0.6f)}; /* both under the roof, off the diagonal */
+  rayaccel_hit hits[2];
+  uint8_t occluded[2];
+  rayaccel_query_context none = {NULL, NULL, NULL, NULL, NULL, NULL};
+  CHECK(rayaccel_intersect_context(accel, &none, rays, 2, hits) == RAYACCEL_OK);
+  CHECK(hits[0].geom_id == 1 && hits[0].t == 1.0f);
+  const uint32_t skip_geom[2] = {1, RAYACCEL_INVALID_ID}, skip_prim[2] = {0, RAYACCEL_INVALID_ID};
+  rayaccel_query_context skip = {skip_geom, skip_prim, NULL, NULL, NULL, NULL};
+  CHECK(rayaccel_intersect_context(accel, &skip, rays, 2, hits) == RAYACCEL_OK);
+  CHECK(hits[0].geom_id == 0 && hits[0].prim_id == 0 && hits[0].t == 2.0f); /* ray 0 skips the roof */
+  CHECK(hits[1].geom_id == 1 && hits[1].t == 1.0f);                         /* ray 1 skips nothing */
+  rayaccel_query_context whole = {NULL, NULL, skip_geom, NULL, NULL, NULL};
+  CHECK(rayaccel_intersect_context(accel, &whole, rays, 2, hits) == RAYACCEL_OK);
+  CHECK(hits[0].geom_id == 0 && hits[1].geom_id == 1);
+  int bad = 0;
+  rayaccel_query_context filtered = {NULL, NULL, NULL, NULL, reject_roof, &bad};
+  CHECK(rayaccel_intersect_context(accel, &filtered, rays, 2, hits) == RAYACCEL_OK);
+  CHECK(hits[0].geom_id == 0 && hits[1].geom_id == 0 && hits[1].t == 2.0f && bad == 0);
+  /* Masks: the roof gets mask 2; rays with mask 1 no longer see it, rays with mask 3 do. Mask 0 turns it off. */
+  const uint32_t ray_mask[2] = {1, 3};
+  rayaccel_query_context masked = {NULL, NULL, NULL, ray_mask, NULL, NULL};
+  CHECK(rayaccel_scene_set_mask(scene, 1, 2) == RAYACCEL_OK);
+  CHECK(rayaccel_intersect_context(accel, &masked, rays, 2, hits) == RAYACCEL_OK);
+  CHECK(hits[0].geom_id == 0 && hits[1].geom_id == 1);
+  CHECK(rayaccel_scene_set_mask(scene, 1, 0) == RAYACCEL_OK);
+  CHECK(rayaccel_occluded_context(accel, NULL, rays, 2, occluded) == RAYACCEL_OK && occluded[0] == 1);
+  CHECK(rayaccel_intersect_context(accel, NULL, rays, 2, hits) == RAYACCEL_OK);
+  CHECK(hits[0].geom_id == 0 && hits[1].geom_id == 0);
+  CHECK(rayaccel_scene_set_mask(scene, 1, 0xFFFFFFFFu) == RAYACCEL_OK);
+  CHECK(rayaccel_scene_set_mask(scene, 7, 1) == RAYACCEL_INVALID_ARGUMENT);
+  CHECK(strstr(rayaccel_last_error(), "geometry 7") != NULL);
+  rayaccel_query_context half = {skip_geom, NULL, NULL, NULL, NULL, NULL};
+  CHECK(rayaccel_intersect_context(accel, &half, rays, 2, hits) == RAYACCEL_INVALID_ARGUMENT);
+  rayaccel_accel_release(accel);
+}
+
 static void check_errors(rayaccel_scene* scene) {
   rayaccel_accel* accel = NULL;
   CHECK(rayaccel_accel_new(scene, "no_such_structure", &accel) == RAYACCEL_INVALID_ARGUMENT);
@@ -115,6 +162,7 @@ int main(void) {
   check_errors(scene);
   const char* specs[] = {"brute_force", "bvh", "bvh_wide", "kdtree", "grid", "octree", "bsp"};
   for (size_t i = 0; i < sizeof(specs) / sizeof(specs[0]); ++i) check_structure(scene, specs[i]);
+  for (size_t i = 0; i < sizeof(specs) / sizeof(specs[0]); ++i) check_context(scene, specs[i]);
 
   /* Built over, the scene is immutable; a structure keeps it alive after the caller lets it go. */
   rayaccel_accel* accel = NULL;

@@ -14,7 +14,9 @@
 
 #include "rayaccel/accel/closest_point_search.h"
 #include "rayaccel/accel/hit_list.h"
+#include "rayaccel/accel/leaf_test.h"
 #include "rayaccel/core/hit.h"
+#include "rayaccel/core/query_context.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/scene/scene.h"
 #include "rayaccel/core/stats.h"
@@ -70,6 +72,18 @@ class Accelerator {
   virtual void occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
     this->occluded(rays, occluded);
   }
+
+  // Queries under a QueryContext (core/query_context.h): a primitive and a geometry to skip, ray and geometry masks,
+  // per-primitive switches and a hit filter, all honoured in the leaves (the first three before the exact test). The
+  // single-ray forms read entry `ray_index` of the context's per-ray arrays (and tell the filter that index); the
+  // batches read entry i for rays[i], and throw Error when a non-empty per-ray array's size is not rays.size(). Every
+  // structure of rayaccel answers them; one that cannot (a wrapped library without the support) throws Error naming
+  // itself rather than ignore the context.
+  virtual Hit intersect(const QueryContext& context, const Ray& ray, std::size_t ray_index = 0) const;
+  virtual bool occluded(const QueryContext& context, const Ray& ray, std::size_t ray_index = 0) const;
+  virtual void intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const;
+  virtual void occluded(const QueryContext& context, std::span<const Ray> rays,
+                        std::span<std::uint8_t> occluded) const;
 
   // Queries beyond the first hit, on triangle scenes, for the structures whose traversal can enumerate every
   // candidate of a ray or search near a point (supports_queries(): brute force, the BVH family, bvh_wide). The others,
@@ -154,6 +168,12 @@ inline constexpr std::size_t kPacketSize = 8;
 /// kPacketSize and end at one or at `count`, so no packet is split between chunks.
 void parallel_for_packets(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
 void check_batch_sizes(std::size_t rays, std::size_t outputs, std::size_t stats);
+/// Throws Error unless every per-ray array of `context` is empty or has `rays` entries (naming the array).
+void check_context_sizes(const QueryContext& context, std::size_t rays);
+/// Throws Error unless every non-empty per-ray array of `context` has an entry `ray_index`.
+void check_context_index(const QueryContext& context, std::size_t ray_index);
+/// Throws Error naming `accel`'s spec: it cannot honour a query context.
+[[noreturn]] void refuse_context(const Accelerator& accel);
 /// Throws Error unless `point` is finite and max_distance >= 0 (naming the bad value).
 void check_point_query(const Vec3& point, float max_distance);
 /// For update(): true when a refit of a structure that holds the primitives `ids` (repeats allowed) keeps every answer
@@ -196,6 +216,31 @@ class AcceleratorImpl : public Accelerator {
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                 std::span<TraversalStats> stats = {}) const final;
 
+  // Under a query context: the same traversal, its Stats a ContextStats that every leaf consults.
+  Hit intersect(const QueryContext& context, const Ray& ray, std::size_t ray_index = 0) const final {
+    detail::check_context_index(context, ray_index);
+    return trace_in_context<false>(context, ray, ray_index);
+  }
+  bool occluded(const QueryContext& context, const Ray& ray, std::size_t ray_index = 0) const final {
+    detail::check_context_index(context, ray_index);
+    return trace_in_context<true>(context, ray, ray_index).found();
+  }
+  void intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const final {
+    detail::check_batch_sizes(rays.size(), hits.size(), 0);
+    detail::check_context_sizes(context, rays.size());
+    detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) hits[i] = trace_in_context<false>(context, rays[i], i);
+    });
+  }
+  void occluded(const QueryContext& context, std::span<const Ray> rays,
+                std::span<std::uint8_t> occluded) const final {
+    detail::check_batch_sizes(rays.size(), occluded.size(), 0);
+    detail::check_context_sizes(context, rays.size());
+    detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) occluded[i] = trace_in_context<true>(context, rays[i], i).found();
+    });
+  }
+
   // The queries beyond the first hit, for a Derived with the members of detail::StructureWithQueries.
   using Accelerator::count_hits;  // the batch form, which this class's count_hits(ray) would hide
   bool supports_queries() const final { return detail::StructureWithQueries<Derived>; }
@@ -225,6 +270,12 @@ class AcceleratorImpl : public Accelerator {
   }
 
  private:
+  template <bool AnyHit>
+  Hit trace_in_context(const QueryContext& context, const Ray& ray, std::size_t ray_index) const {
+    NoStats none;
+    ContextStats<NoStats> stats(context, ray_index, none);
+    return trace_one<AnyHit>(ray, stats);
+  }
   template <bool AnyHit, class Stats>
   Hit trace_one(const Ray& ray, Stats& stats) const {
     const PreparedRay prepared(ray);

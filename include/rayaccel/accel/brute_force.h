@@ -20,8 +20,7 @@ class BruteForce final : public AcceleratorImpl<BruteForce> {
   void trace(const PreparedRay& ray, Hit& hit, Stats& stats) const {
     stats.visit_node();
     for (std::uint32_t id : prim_ids_) {
-      stats.test_primitive();
-      if (scene_->intersect(id, ray, hit) && AnyHit) return;
+      if (test_scene_primitive(*scene_, id, ray, hit, stats) && AnyHit) return;
     }
   }
 

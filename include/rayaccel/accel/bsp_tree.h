@@ -169,8 +169,7 @@ class BspTree final : public AcceleratorImpl<BspTree> {
       }
       const std::uint32_t* ids = data_.prim_indices.data() + node.prim_offset;
       for (std::uint32_t i = 0, count = node.prim_count(); i < count; ++i) {
-        stats.test_primitive();
-        if (scene_->intersect(ids[i], ray, hit) && AnyHit) return SegmentVisit::stop;
+        if (test_scene_primitive(*scene_, ids[i], ray, hit, stats) && AnyHit) return SegmentVisit::stop;
       }
       return SegmentVisit::leaf_done;
     });

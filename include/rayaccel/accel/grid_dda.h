@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "rayaccel/accel/leaf_test.h"
 #include "rayaccel/accel/ray_mailbox.h"
 #include "rayaccel/core/aabb.h"
 #include "rayaccel/core/hit.h"
@@ -184,8 +185,7 @@ template <bool AnyHit, class Stats>
 inline void test_every_primitive(const Scene& scene, const PreparedRay& ray, Hit& hit, Stats& stats) {
   for (std::uint32_t id = 0; id < scene.primitive_count(); ++id) {
     if (!scene.is_valid(id)) continue;
-    stats.test_primitive();
-    if (scene.intersect(id, ray, hit) && AnyHit) return;
+    if (test_scene_primitive(scene, id, ray, hit, stats) && AnyHit) return;
   }
 }
 
@@ -197,8 +197,7 @@ inline bool test_cell_primitives(const Scene& scene, const std::uint32_t* begin,
                                  Stats& stats) {
   for (const std::uint32_t* p = begin; p != end; ++p) {
     if (use_mailbox && mailbox.seen_before(*p)) continue;
-    stats.test_primitive();
-    if (scene.intersect(*p, ray, hit) && AnyHit) return true;
+    if (test_scene_primitive(scene, *p, ray, hit, stats) && AnyHit) return true;
   }
   return false;
 }

@@ -196,8 +196,7 @@ RAYACCEL_LANE_INLINE void KdTree::trace_cells(const PreparedRay& ray, Hit& hit, 
     const std::uint32_t* ids = data_.prim_indices.data() + node.prim_offset;
     for (std::uint32_t i = 0, n = node.prim_count(); i < n; ++i) {
       if (mailbox.seen_before(ids[i])) continue;
-      stats.test_primitive();
-      if (scene_->intersect(ids[i], ray, hit) && AnyHit) return SegmentVisit::stop;
+      if (test_scene_primitive(*scene_, ids[i], ray, hit, stats) && AnyHit) return SegmentVisit::stop;
     }
     return SegmentVisit::leaf_done;
   });

@@ -163,13 +163,15 @@ void Bvh<BV>::trace_nodes(std::uint32_t start, const PreparedRay& ray, Hit& hit,
       },
       [&](const Node& node) {
         for (std::uint32_t slot = node.index, end = node.index + node.count; slot < end; ++slot) {
-          stats.test_primitive();
           bool found;
           if constexpr (Triangles) {
+            stats.test_primitive();
             const auto& v = triangles_[slot];
-            found = intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], hit);
+            found = test_candidate(stats, prim_ids_[slot], hit, [&](Hit& h) {
+              return intersect_triangle(ray, v[0], v[1], v[2], prim_ids_[slot], h);
+            });
           } else {
-            found = scene_->intersect(prim_ids_[slot], ray, hit);
+            found = test_scene_primitive(*scene_, prim_ids_[slot], ray, hit, stats);
           }
           if (AnyHit && found) return true;
         }

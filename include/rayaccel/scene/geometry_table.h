@@ -25,6 +25,8 @@ class GeometryTable {
   /// The scene-wide id of geometry `geom_id`'s first primitive (primitive_count() for geom_id == geometry_count()).
   std::uint32_t first_primitive(std::uint32_t geom_id) const { return first_.at(geom_id); }
   std::uint32_t primitive_count(std::uint32_t geom_id) const { return first_.at(geom_id + 1) - first_.at(geom_id); }
+  /// first_primitive(k) for k = 0 .. geometry_count(): what QueryContext::geometry_starts takes.
+  std::span<const std::uint32_t> starts() const { return first_; }
   /// The geometry holding scene-wide primitive `prim_id`; kInvalidPrimId for an id out of range (a miss).
   std::uint32_t geometry_of(std::uint32_t prim_id) const;
   /// `prim_id`'s index within its geometry; kInvalidPrimId for an id out of range (a miss).

@@ -21,6 +21,8 @@ namespace rayaccel {
 //   .closest  28 bytes per point: float32 x y z distance, uint32 prim_id, float32 u v (the ClosestPoint record;
 //             nothing found: distance=+inf, prim=0xFFFFFFFF, the rest 0)
 //   .counts   4 bytes per ray: uint32 (crossings per ray of an all-hits query)
+//   .ids      4 bytes per ray: uint32, a companion of a .rays or .hits file with one entry per record: a primitive
+//             to skip (trace --skip), a ray mask (trace --mask), a hit's geometry id; 0xFFFFFFFF means none
 //   .rays64   64 bytes per ray: float64 ox oy oz tmin dx dy dz tmax (the double path's RayD)
 //   .hits64   32 bytes per ray: float64 t, uint32 prim_id, uint32 0 (padding), float64 u, float64 v (the double
 //             path's HitD; miss: t=+inf, prim=0xFFFFFFFF, u=v=0)
@@ -48,6 +50,9 @@ void write_points(const std::filesystem::path& path, std::span<const Vec3> point
 std::vector<ClosestPoint> read_closest_points(const std::filesystem::path& path);
 void write_closest_points(const std::filesystem::path& path, std::span<const ClosestPoint> points);
 void write_counts(const std::filesystem::path& path, std::span<const std::uint32_t> counts);
+/// A companion .ids file; throws Error naming the file when it cannot be read or its size is not a multiple of 4.
+std::vector<std::uint32_t> read_ids(const std::filesystem::path& path);
+void write_ids(const std::filesystem::path& path, std::span<const std::uint32_t> ids);
 
 /// The double path's files. Throws Error naming the file when it cannot be read, (read_rays_d) is called *.rays (the
 /// float layout), or its size is not a multiple of 64 bytes; records as stored (PreparedRayD makes rays outside the

@@ -65,7 +65,7 @@ RAYACCEL_LANE_INLINE bool intersect_block_run(const TrianglePacket<Lanes>& packe
       const bool both = b + 1 < count;
       const Triangle4* pair[2] = {&blocks[b], &blocks[both ? b + 1 : b]};
       stats.test_primitive(both ? 8 : 4);
-      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
+      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit, stats);
       if (AnyHit && found) return true;
     }
   } else if constexpr (Lanes::kWidth == 8) {
@@ -77,7 +77,7 @@ RAYACCEL_LANE_INLINE bool intersect_block_run(const TrianglePacket<Lanes>& packe
       if (pending == 2) {
         pending = 0;
         stats.test_primitive(8);
-        found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
+        found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit, stats);
         if (AnyHit && found) return true;
       }
     }
@@ -86,13 +86,13 @@ RAYACCEL_LANE_INLINE bool intersect_block_run(const TrianglePacket<Lanes>& packe
       // in one instruction stream, and a repeated test cannot change the closest hit (t < hit.t is strict).
       stats.test_primitive(4);
       pair[1] = pair[0];
-      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit);
+      found |= intersect_triangle_lanes<Lanes>(packet, ray, pair, hit, stats);
     }
   } else {
     for (std::uint32_t b = 0; b < count; ++b) {
       if (Mailbox && mailbox.all_seen(blocks[b])) continue;
       stats.test_primitive(4);
-      found |= intersect_triangles4(packet, ray, blocks[b], hit);
+      found |= intersect_triangles4(packet, ray, blocks[b], hit, stats);
       if (AnyHit && found) return true;
     }
   }

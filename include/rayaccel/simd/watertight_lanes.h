@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "rayaccel/core/hit.h"
+#include "rayaccel/core/query_context.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/geometry/ray_triangle.h"
 #include "rayaccel/simd/lane_set.h"
@@ -160,35 +161,56 @@ RAYACCEL_LANE_INLINE int candidate_triangle_lanes(const TrianglePacket<S>& ray, 
 
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
 /// Returns true on any update. Lanes the float path cannot decide go to the scalar kernel (see WatertightLanes).
-template <class S>
+/// With a query context (Stats is a ContextStats), the lanes it rules out are found first: blocks with none left
+/// are not tested, and the others' ruled-out lanes never reach the scalar kernel or the hit; the filter sees each
+/// closer hit before it is kept.
+template <class S, class Stats = NoStats>
 RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
-                                                   const Triangle4* const* blocks, Hit& hit) {
+                                                   const Triangle4* const* blocks, Hit& hit,
+                                                   const Stats& stats = {}) {
   constexpr int W = S::kWidth;
+  [[maybe_unused]] int allowed = (1 << W) - 1;
+  if constexpr (kHasContext<Stats>) {
+    allowed = 0;
+    for (int lane = 0; lane < W; ++lane) {
+      const std::uint32_t id = blocks[lane / 4]->prim_id[lane % 4];
+      if (id != kInvalidPrimId && stats.allows(id)) allowed |= 1 << lane;
+    }
+    if (allowed == 0) return false;
+  }
   WatertightLanes<S> lanes;
   if (!test_triangle_lanes(ray, scalar_ray, blocks, hit.t, lanes)) return false;
+  int hit_lanes = lanes.hits, edge_lanes = lanes.on_edge;
+  if constexpr (kHasContext<Stats>) {
+    hit_lanes &= allowed;
+    edge_lanes &= allowed;
+  }
   bool updated = false;
-  if (lanes.hits) {
+  if (hit_lanes) {
     float t_lane[W], u_lane[W], v_lane[W];
     lanes.store_hits(t_lane, u_lane, v_lane);
-    for (int rest = lanes.hits; rest; rest &= rest - 1) {
+    for (int rest = hit_lanes; rest; rest &= rest - 1) {
       const int lane = __builtin_ctz(static_cast<unsigned>(rest));
       if (t_lane[lane] < hit.t) {
-        hit.t = t_lane[lane];
-        hit.prim_id = blocks[lane / 4]->prim_id[lane % 4];
-        hit.u = u_lane[lane];
-        hit.v = v_lane[lane];
+        const Hit candidate{t_lane[lane], blocks[lane / 4]->prim_id[lane % 4], u_lane[lane], v_lane[lane]};
+        if constexpr (kHasContext<Stats>) {
+          if (stats.has_filter() && !stats.accepts(candidate)) continue;
+        }
+        hit = candidate;
         updated = true;
       }
     }
   }
-  for (int rest = lanes.on_edge; rest; rest &= rest - 1) {
+  for (int rest = edge_lanes; rest; rest &= rest - 1) {
     const int lane = __builtin_ctz(static_cast<unsigned>(rest));
     const Triangle4& block = *blocks[lane / 4];
     const int i = lane % 4;
     const Vec3 v0{block.vertex[0][0][i], block.vertex[0][1][i], block.vertex[0][2][i]};
     const Vec3 v1{block.vertex[1][0][i], block.vertex[1][1][i], block.vertex[1][2][i]};
     const Vec3 v2{block.vertex[2][0][i], block.vertex[2][1][i], block.vertex[2][2][i]};
-    updated |= intersect_triangle(scalar_ray, v0, v1, v2, block.prim_id[i], hit);
+    updated |= test_candidate(stats, block.prim_id[i], hit, [&](Hit& h) {
+      return intersect_triangle(scalar_ray, v0, v1, v2, block.prim_id[i], h);
+    });
   }
   return updated;
 }
@@ -252,10 +274,11 @@ RAYACCEL_LANE_INLINE int intersect_triangle_rays(const TrianglePacket<S>& packet
 }
 
 /// Tests the four triangles of one block (see intersect_triangle_lanes).
+template <class Stats = NoStats>
 RAYACCEL_LANE_INLINE bool intersect_triangles4(const TrianglePacket<Sse4>& ray, const PreparedRay& scalar_ray,
-                                               const Triangle4& tri, Hit& hit) {
+                                               const Triangle4& tri, Hit& hit, const Stats& stats = {}) {
   const Triangle4* blocks[1] = {&tri};
-  return intersect_triangle_lanes<Sse4>(ray, scalar_ray, blocks, hit);
+  return intersect_triangle_lanes<Sse4>(ray, scalar_ray, blocks, hit, stats);
 }
 RAYACCEL_LANE_CODE_END
 

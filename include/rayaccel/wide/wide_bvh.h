@@ -259,8 +259,7 @@ bool WideBvh::intersect_leaf_prims(std::uint32_t ref, const PreparedRay& ray, Hi
   for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
     for (std::uint32_t id : blocks_[b].prim_id) {
       if (id == kInvalidPrimId) continue;
-      stats.test_primitive();
-      found |= scene_->intersect(id, ray, hit);
+      found |= test_scene_primitive(*scene_, id, ray, hit, stats);
       if (AnyHit && found) return true;
     }
   }
