@@ -43,7 +43,8 @@ TEST(ChildOrder, FarthestFirstAlongEachOctantsDiagonalUnusedLanesLast) {
     EXPECT_EQ(std::vector<unsigned>(order.begin(), order.begin() + 5), along_x) << "octant " << octant;
     EXPECT_EQ(std::vector<unsigned>(order.begin() + 5, order.end()), (std::vector<unsigned>{5, 6, 7}));
   }
-  node.order[3] = node.order[2] | 7u;  // lane 7 twice, one lane never
+  // Position 0 given position 1's lane: that lane twice, position 0's never.
+  node.order[3] = (node.order[2] & ~7u) | order_lane(node.order[2], 1);
   EXPECT_FALSE(child_order_is_permutation(node));
 }
 
