@@ -1,7 +1,6 @@
 // The robust slab test of one ray against the W child boxes of a node stored SoA (Ize 2013, "Robust BVH ray
-// traversal", revised: the widening folded into the ray's reciprocal once per ray, not applied per node), written once
-// over a lane set (Sse4: four children, Avx8: eight), with the origin shift that keeps rays from subnormal origin
-// coordinates out of subnormal arithmetic.
+// traversal"), written once over a lane set (Sse4: four children, Avx8: eight), with the origin shift that keeps
+// rays from subnormal origin coordinates out of subnormal arithmetic.
 #pragma once
 
 #include <algorithm>
@@ -57,12 +56,9 @@ RAYACCEL_LANE_CODE_BEGIN
 template <class S>
 struct BoxPacket {
   typename S::F origin[3];
-  /// The reciprocal direction for the near and far planes: for rays with t_min >= 0 already scaled toward 0 and away
-  /// from 0 by the widening factors (see BoxKernel::intersect_lanes), for other rays the plain 1/d.
-  typename S::F inv_near[3], inv_far[3];
-  typename S::F t_min;  ///< t_min, for rays with t_min >= 0 scaled by widen_down
+  typename S::F inv_direction[3];
+  typename S::F t_min;
   typename S::F widen_down, widen_up, slab_shift;  ///< see BoxTestOrigin
-  float t_far_scale;  ///< the far bound's factor: widen_up for rays with t_min >= 0, else 1 (widened per node)
   /// Byte offsets of each axis's near and far planes in a node's `float bounds[3][2][S::kWidth]` (the near plane is
   /// lo where the direction is >= +0, hi where it is negative), worked out once per ray so a node test is six loads.
   std::ptrdiff_t near_bytes[3], far_bytes[3];
@@ -73,19 +69,16 @@ struct BoxPacket {
     const BoxTestOrigin box_origin(r);
     for (int a = 0; a < 3; ++a) {
       origin[a] = S::set1(box_origin.origin[a]);
-      const bool scaled = r.t_min >= 0.0f;
-      inv_near[a] = S::set1(scaled ? r.inv_direction[a] * box_origin.widen_down : r.inv_direction[a]);
-      inv_far[a] = S::set1(scaled ? r.inv_direction[a] * box_origin.widen_up : r.inv_direction[a]);
+      inv_direction[a] = S::set1(r.inv_direction[a]);
       constexpr auto kPlaneBytes = static_cast<std::ptrdiff_t>(S::kWidth * sizeof(float));
       near_bytes[a] = (2 * a + (r.negative[a] ? 1 : 0)) * kPlaneBytes;
       far_bytes[a] = (2 * a + (r.negative[a] ? 0 : 1)) * kPlaneBytes;
     }
-    t_min_non_negative = r.t_min >= 0.0f;
-    t_min = S::set1(t_min_non_negative ? r.t_min * box_origin.widen_down : r.t_min);
-    t_far_scale = t_min_non_negative ? box_origin.widen_up : 1.0f;
+    t_min = S::set1(r.t_min);
     widen_down = S::set1(box_origin.widen_down);
     widen_up = S::set1(box_origin.widen_up);
     slab_shift = S::set1(box_origin.slab_shift);
+    t_min_non_negative = r.t_min >= 0.0f;
     shifted = box_origin.slab_shift != 0.0f;
   }
 };
@@ -128,33 +121,29 @@ struct BoxKernel {
                                                        F& t_entry) {
     static_assert(sizeof(node.bounds[0][0]) == kWidth * sizeof(float), "one child box a lane");
     F t_near = ray.t_min;
-    F t_far = S::set1(t_far_scalar * ray.t_far_scale);
+    F t_far = S::set1(t_far_scalar);
     const char* planes = reinterpret_cast<const char*>(node.bounds);
     for (int a = 0; a < 3; ++a) {
       const F near_plane = S::load(reinterpret_cast<const float*>(planes + ray.near_bytes[a]));
       const F far_plane = S::load(reinterpret_cast<const float*>(planes + ray.far_bytes[a]));
-      const F t0 = S::mul(S::sub(near_plane, ray.origin[a]), ray.inv_near[a]);
-      const F t1 = S::mul(S::sub(far_plane, ray.origin[a]), ray.inv_far[a]);
+      const F t0 = S::mul(S::sub(near_plane, ray.origin[a]), ray.inv_direction[a]);
+      const F t1 = S::mul(S::sub(far_plane, ray.origin[a]), ray.inv_direction[a]);
       t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound (second operand)
       t_far = S::min(t1, t_far);
     }
     if (ray.t_min_non_negative) {
-      // The widening is in the ray's constants (Ize 2013, revised), not in two multiplies per node. The error bound,
-      // with u = 2^-24, W = widen_up >= 1 + 6u and w = widen_down <= 1 - 6u: a slab distance tau = (plane - o) / d is
-      // computed as fl(fl(plane - o) * fl(fl(1/d) * W)), four roundings of relative size <= u, so for tau >= 0 the
-      // far distance is >= tau W (1 - u)^4 >= tau and the near one <= tau w (1 + u)^4 <= tau: the same four roundings
-      // and the same factors as the per-node form fl(fl(fl(plane - o) * fl(1/d)) * W) it replaces, so the same
-      // boxes are met. A negative near distance stays negative (scaling keeps signs), below t_min >= 0 where it
-      // constrains nothing; a negative far distance stays negative, a miss as in exact arithmetic. t_min and the far
-      // bound are scaled by w and W as the per-node form scaled them (they carry the triangle test's t rounding).
-      // 1/d * W may overflow to infinity for a tiny d: an infinite far distance constrains nothing.
+      // t_near >= t_min >= 0 in every lane, so it widens by the non-negative factor; t_far widens by its own
+      // non-negative factor too: where t_far < 0 either factor leaves it negative, below t_near, and the lane misses
+      // as it would have (the same masks and entry distances as the general case, two dependent steps shorter).
+      t_near = S::mul(t_near, ray.widen_down);
+      t_far = S::mul(t_far, ray.widen_up);
       if (ray.shifted) {
         // The box origin is the ray's with subnormal coordinates set to 0 (BoxTestOrigin): the exact slab distances
         // of the ray are those computed, moved by at most |s| <= slab_shift / 4. Why the result still encloses them,
-        // with tau >= 0 the exact near distance for the moved origin: with the factors 8u looser, the computed near
-        // distance is c <= tau (1 - 14u)(1 + u)^4 <= tau - 8u tau, so c - slab_shift rounds to at most
+        // with c >= 0 the computed near distance, tau its exact value for the moved origin (c (1 - gamma3) <= tau,
+        // Ize's bound) and u = 2^-24: c * widen_down rounds to w <= tau - 8uc, so w - slab_shift rounds to at most
         // tau - slab_shift (1 - u) <= tau - |s|. The far end is the mirror image; a far distance computed below 0
-        // that is exactly >= 0 is at most |s| (1 + 16u) below 0, and slab_shift >= 4|s| lifts it past.
+        // that is exactly >= 0 is at most |s| (1 + 2 gamma3) below 0, and slab_shift >= 4|s| lifts it past.
         t_near = S::sub(t_near, ray.slab_shift);
         t_far = S::add(t_far, ray.slab_shift);
       }
