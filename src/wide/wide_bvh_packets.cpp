@@ -103,8 +103,8 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
       if constexpr (AnyHit) {
         // Any hit: a ray's far bound stays Hit::begin's until its first hit, when it leaves the packet (`live`), so
         // nothing on the stack is culled by distance: entries hold the rays that met the subtree's box, and the
-        // children met are taken in lane order (the first entered, the others pushed), as in the single-ray any-hit
-        // traversal.
+        // children met are taken in lane order (the first entered, the others pushed); the single-ray any-hit traversal
+        // takes them in the node's order for its octant, which the rays of a packet need not share.
         struct Entry {
           std::uint32_t ref;
           int lanes;

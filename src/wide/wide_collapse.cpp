@@ -148,6 +148,7 @@ std::uint32_t WideBvh::emit(const BuildTree& tree, std::uint32_t binary_node, in
     set_child_bounds(node, lane, binary_bounds_[c]);
     ++lane;
   }
+  set_child_order(node);
   nodes[index] = node;
   return lane == 0 ? kEmptyChild : index;
 }

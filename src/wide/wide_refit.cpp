@@ -53,6 +53,10 @@ void WideBvh::refit_nodes(NodeArray<W>& nodes) {
       set_child_bounds(node, lane, box);
     }
   }
+  // The any-hit order follows the boxes (any order gives the same answers; this one keeps near-first).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes.size(), 256), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) set_child_order(nodes[i]);
+  });
 }
 
 void WideBvh::refit() {

@@ -66,6 +66,9 @@ void WideBvh::validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>
       continue;
     }
     const Node<W>& node = nodes[item.ref];
+    if (!child_order_is_permutation(node)) {
+      problems.push_back("node " + std::to_string(item.ref) + ": a child order is not a permutation of its lanes");
+    }
     for (int lane = 0; lane < W; ++lane) {
       if (node.child[lane] == kEmptyChild) {
         if (!child_bounds(node, lane).is_empty()) problems.push_back("unused child slot with a non-empty box");

@@ -71,6 +71,17 @@ struct Avx8Masked : Avx8 {
   RAYACCEL_AVX512 static I interleave_high(I a, I b) {
     return _mm256_permutex2var_epi32(a, _mm256_setr_epi32(4, 12, 5, 13, 6, 14, 7, 15), b);
   }
+  /// The lane indices of a wide node's order word (wide/wide_node.h): lane p holds bits 3p..3p+2.
+  RAYACCEL_AVX512 static I order_lanes(unsigned word) {
+    return _mm256_and_si256(
+        _mm256_srlv_epi32(_mm256_set1_epi32(static_cast<int>(word)), _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21)),
+        _mm256_set1_epi32(7));
+  }
+  /// Bit p set where `mask` has the bit of the lane index in lane p of `lanes` (lanes 0..7).
+  RAYACCEL_AVX512 static unsigned lanes_in_mask(I lanes, unsigned mask) {
+    return _cvtmask8_u32(_mm256_test_epi32_mask(_mm256_sllv_epi32(_mm256_set1_epi32(1), lanes),
+                                                _mm256_set1_epi32(static_cast<int>(mask))));
+  }
   /// v's lanes in the order of `lanes` (lane indices in the low three bits of each lane; a key from lane_keys will do).
   RAYACCEL_AVX512 static I gather_lanes(I lanes, I v) { return _mm256_permutexvar_epi32(lanes, v); }
 #undef RAYACCEL_AVX512

@@ -1,5 +1,6 @@
-// How the traversal puts a node's hit children on its stack with AVX-512 lanes (simd::Avx8Masked), with no branch per
-// child: closest-hit sorts them in registers with a sorting network, any-hit packs them with vpcompressd.
+// How the traversal puts a node's hit children on its stack: with AVX-512 lanes (simd::Avx8Masked) closest-hit sorts
+// them in registers with a sorting network; any-hit takes them in the node's order for the ray's octant (Fuetterling
+// et al. 2017), packed with vpcompressd where the lanes have it.
 #pragma once
 
 #include <cstdint>
@@ -35,15 +36,30 @@ RAYACCEL_LANE_INLINE std::uint32_t push_sorted(const Node<8>& node, unsigned mas
   return S::extract_u32(refs, nearest);
 }
 
-/// Any hit: pushes the children in `mask` (one or more) but the lowest lane onto pending[count ..] in lane order and
-/// returns the lowest lane's, to be entered first (the order of the scalar loop). Writes eight entries.
-template <class S>
-RAYACCEL_LANE_INLINE std::uint32_t push_in_lane_order(const Node<8>& node, unsigned mask, std::uint32_t* pending,
-                                                      int& count) {
-  const unsigned rest = mask & (mask - 1);
-  S::store_u32(pending + count, S::compress(rest, S::load_u32(node.child)));
-  count += __builtin_popcount(rest);
-  return node.child[__builtin_ctz(mask)];
+/// Any hit: the children in `mask` (one or more) in the order word's order (Node::order[octant]): returns the first,
+/// to be entered now, and pushes the others onto pending[count ..] so that the next in order is on top. With AVX-512
+/// lanes the lane indices are unpacked in a register, the children permuted into order and packed by vpcompressd
+/// (writes eight entries); otherwise a loop over the W positions.
+template <class S, int W>
+RAYACCEL_LANE_INLINE std::uint32_t push_in_octant_order(const Node<W>& node, unsigned mask, unsigned order,
+                                                        std::uint32_t* pending, int& count) {
+  unsigned ranked = 0;  // bit p: the child at position p was met
+  if constexpr (W == 8 && requires { requires S::kMaskRegisters; }) {
+    const typename S::I lanes = S::order_lanes(order);
+    ranked = S::lanes_in_mask(lanes, mask);
+    const int first = 31 - __builtin_clz(ranked);
+    const unsigned rest = ranked ^ (1u << first);
+    S::store_u32(pending + count, S::compress(rest, S::gather_lanes(lanes, S::load_u32(node.child))));
+    count += __builtin_popcount(rest);
+    return node.child[order_lane(order, first)];
+  } else {
+    for (int position = 0; position < W; ++position) ranked |= (mask >> order_lane(order, position) & 1u) << position;
+    const int first = 31 - __builtin_clz(ranked);
+    for (unsigned rest = ranked ^ (1u << first); rest; rest &= rest - 1) {
+      pending[count++] = node.child[order_lane(order, __builtin_ctz(rest))];
+    }
+    return node.child[order_lane(order, first)];
+  }
 }
 RAYACCEL_LANE_CODE_END
 

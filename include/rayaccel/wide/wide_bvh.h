@@ -1,6 +1,6 @@
-// Wide BVH (4 or 8 children per node, child boxes SoA, leaves of Triangle4 blocks): a binary SAH tree collapsed
-// greedily (Wald, Benthin, Boulos 2008; Dammertz et al. 2008), traced with SSE2, AVX2 or AVX-512 lanes chosen at run
-// time, closest hit near-first and any hit in lane order; eight-ray packets in wide_bvh_packets.cpp (Wald et al. 2001).
+// Wide BVH (4 or 8 children per node, child boxes SoA, Triangle4 leaf blocks): a binary SAH tree collapsed greedily
+// (Wald, Benthin, Boulos 2008; Dammertz et al. 2008), traced with SSE2, AVX2 or AVX-512 lanes chosen at run time,
+// closest hit near-first, any hit farthest first per ray octant; packets of eight in wide_bvh_packets.cpp (Wald 2001).
 #pragma once
 
 #include <cstdint>
@@ -197,9 +197,23 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
     __builtin_prefetch(p + 128);
     __builtin_prefetch(p + 192);
   }
+  /// Closest hit: children near-first by their entry distances (below); any hit: in the node's order for the ray's
+  /// octant, leaving at the first hit (wide/any_hit_traversal.h).
   template <class Kernel, bool AnyHit, class Stats>
   RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
-                                     const PreparedRay& ray, Hit& hit, Stats& stats) const;
+                                     const PreparedRay& ray, Hit& hit, Stats& stats) const {
+    if constexpr (AnyHit) {
+      traverse_any_hit<Kernel>(nodes, start, ray, hit, stats);
+    } else {
+      traverse_closest<Kernel>(nodes, start, ray, hit, stats);
+    }
+  }
+  template <class Kernel, class Stats>
+  RAYACCEL_LANE_INLINE void traverse_closest(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                             const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  template <class Kernel, class Stats>
+  RAYACCEL_LANE_INLINE void traverse_any_hit(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                             const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
   RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const simd::Triangle4* blocks,
                                            const simd::TrianglePacket<Lanes>& packet, const PreparedRay& ray,
@@ -266,9 +280,9 @@ bool WideBvh::intersect_leaf_prims(std::uint32_t ref, const PreparedRay& ray, Hi
   return found;
 }
 
-template <class Kernel, bool AnyHit, class Stats>
-RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
-                                             const PreparedRay& ray, Hit& hit, Stats& stats) const {
+template <class Kernel, class Stats>
+RAYACCEL_LANE_INLINE void WideBvh::traverse_closest(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                                     const PreparedRay& ray, Hit& hit, Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (start == kEmptyChild) return;
   // The arrays' addresses in locals: read through the vectors, they would be reloaded at every step, as the stores
@@ -280,118 +294,84 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse(const NodeArray<Kernel::kWidth>& nod
   // AVX-512 lanes (simd::Avx8Masked) push the children met without a branch per child (child_push.h).
   constexpr bool kMaskedPush = requires { requires Kernel::Lanes::kMaskRegisters; };
   std::uint32_t ref = start;
-  if constexpr (AnyHit) {
-    // Any hit: the far bound stays hit.t until the first hit ends the query, so nothing on the stack can be culled
-    // by a closer hit: it holds bare references, and the children met are taken in lane order (the first entered,
-    // the others pushed), as ordering them by distance did not pay (docs/benchmark-history.md, step 24).
-    const float t_far = hit.t;
-    std::uint32_t pending[kStackSize];
-    int count = 0;
-    for (;;) {
-      stats.visit_node();
-      if (ref & kLeafBit) {
-        if (intersect_leaf<typename Kernel::Lanes, true>(ref, blocks, triangle_packet, ray, hit, stats)) return;
-      } else {
-        const Node<W>& node = node_at[ref];
-        typename Kernel::F entry;  // entry distances, which any-hit does not use
-        unsigned mask = Kernel::intersect_lanes(box_packet, node, t_far, entry);
-        if constexpr (kMaskedPush) {
-          if (mask) {
-            for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
-            ref = push_in_lane_order<typename Kernel::Lanes>(node, mask, pending, count);
-            continue;
-          }
-        } else if (mask) {
-          ref = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
+  // Closest hit: children near-first, each stack entry with its entry distance, culled on pop by the closest hit.
+  using Entry = StackEntry;
+  Entry stack[kStackSize];
+  int top = 0;
+  for (;;) {
+    stats.visit_node();
+    if (ref & kLeafBit) {
+      intersect_leaf<typename Kernel::Lanes, false>(ref, blocks, triangle_packet, ray, hit, stats);
+    } else {
+      const Node<W>& node = node_at[ref];
+      typename Kernel::F entry_lanes;
+      unsigned mask = Kernel::intersect_lanes(box_packet, node, hit.t, entry_lanes);
+      alignas(32) float entry[W];
+      Kernel::Lanes::store(entry, entry_lanes);
+      if (mask) {
+        // The common cases first (Wald et al. 2008 on wide-BVH traversal order): one child met is entered
+        // without touching the stack; of two, the farther is pushed; only three or more are sorted.
+        const int first = __builtin_ctz(static_cast<unsigned>(mask));
+        mask &= mask - 1;
+        if (mask == 0) {
+          ref = node.child[first];
           prefetch_child(node_at, blocks, ref);
-          for (mask &= mask - 1; mask; mask &= mask - 1) {
-            pending[count] = node.child[__builtin_ctz(static_cast<unsigned>(mask))];
-            prefetch_child(node_at, blocks, pending[count++]);
-          }
           continue;
         }
+        const int second = __builtin_ctz(static_cast<unsigned>(mask));
+        mask &= mask - 1;
+        if (mask == 0) {
+          const bool first_nearer = !(entry[second] < entry[first]);
+          const int near = first_nearer ? first : second;
+          const int far = first_nearer ? second : first;
+          stack[top++] = {node.child[far], entry[far]};
+          ref = node.child[near];
+          prefetch_child(node_at, blocks, ref);
+          prefetch_child(node_at, blocks, node.child[far]);
+          continue;
+        }
+        if constexpr (kMaskedPush) {
+          for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
+          prefetch_child(node_at, blocks, node.child[first]);
+          prefetch_child(node_at, blocks, node.child[second]);
+          ref = push_sorted<typename Kernel::Lanes>(node, mask | 1u << first | 1u << second, entry_lanes, stack,
+                                                    top);
+          continue;
+        }
+        // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
+        // the nearest is taken straight back off the top. Gathering them elsewhere and copying cost a memcpy.
+        Entry* met = stack + top;
+        met[0] = {node.child[first], entry[first]};
+        met[1] = {node.child[second], entry[second]};
+        prefetch_child(node_at, blocks, met[0].ref);
+        prefetch_child(node_at, blocks, met[1].ref);
+        if (met[0].t_entry < met[1].t_entry) std::swap(met[0], met[1]);
+        int n = 2;
+        for (; mask; mask &= mask - 1) {
+          const int lane = __builtin_ctz(static_cast<unsigned>(mask));
+          const Entry e{node.child[lane], entry[lane]};
+          prefetch_child(node_at, blocks, e.ref);
+          int i = n++;
+          for (; i > 0 && met[i - 1].t_entry < e.t_entry; --i) met[i] = met[i - 1];
+          met[i] = e;
+        }
+        top += n - 1;
+        ref = met[n - 1].ref;
+        continue;
       }
-      if (count == 0) return;
-      ref = pending[--count];
     }
-  } else {
-    // Closest hit: children near-first, each stack entry with its entry distance, culled on pop by the closest hit.
-    using Entry = StackEntry;
-    Entry stack[kStackSize];
-    int top = 0;
+    // Pop the next subtree whose entry is not beyond the closest hit so far.
     for (;;) {
-      stats.visit_node();
-      if (ref & kLeafBit) {
-        intersect_leaf<typename Kernel::Lanes, false>(ref, blocks, triangle_packet, ray, hit, stats);
-      } else {
-        const Node<W>& node = node_at[ref];
-        typename Kernel::F entry_lanes;
-        unsigned mask = Kernel::intersect_lanes(box_packet, node, hit.t, entry_lanes);
-        alignas(32) float entry[W];
-        Kernel::Lanes::store(entry, entry_lanes);
-        if (mask) {
-          // The common cases first (Wald et al. 2008 on wide-BVH traversal order): one child met is entered
-          // without touching the stack; of two, the farther is pushed; only three or more are sorted.
-          const int first = __builtin_ctz(static_cast<unsigned>(mask));
-          mask &= mask - 1;
-          if (mask == 0) {
-            ref = node.child[first];
-            prefetch_child(node_at, blocks, ref);
-            continue;
-          }
-          const int second = __builtin_ctz(static_cast<unsigned>(mask));
-          mask &= mask - 1;
-          if (mask == 0) {
-            const bool first_nearer = !(entry[second] < entry[first]);
-            const int near = first_nearer ? first : second;
-            const int far = first_nearer ? second : first;
-            stack[top++] = {node.child[far], entry[far]};
-            ref = node.child[near];
-            prefetch_child(node_at, blocks, ref);
-            prefetch_child(node_at, blocks, node.child[far]);
-            continue;
-          }
-          if constexpr (kMaskedPush) {
-            for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
-            prefetch_child(node_at, blocks, node.child[first]);
-            prefetch_child(node_at, blocks, node.child[second]);
-            ref = push_sorted<typename Kernel::Lanes>(node, mask | 1u << first | 1u << second, entry_lanes, stack,
-                                                      top);
-            continue;
-          }
-          // Three or more: pushed in place and sorted there farthest first (insertion sort: at most W entries);
-          // the nearest is taken straight back off the top. Gathering them elsewhere and copying cost a memcpy.
-          Entry* met = stack + top;
-          met[0] = {node.child[first], entry[first]};
-          met[1] = {node.child[second], entry[second]};
-          prefetch_child(node_at, blocks, met[0].ref);
-          prefetch_child(node_at, blocks, met[1].ref);
-          if (met[0].t_entry < met[1].t_entry) std::swap(met[0], met[1]);
-          int n = 2;
-          for (; mask; mask &= mask - 1) {
-            const int lane = __builtin_ctz(static_cast<unsigned>(mask));
-            const Entry e{node.child[lane], entry[lane]};
-            prefetch_child(node_at, blocks, e.ref);
-            int i = n++;
-            for (; i > 0 && met[i - 1].t_entry < e.t_entry; --i) met[i] = met[i - 1];
-            met[i] = e;
-          }
-          top += n - 1;
-          ref = met[n - 1].ref;
-          continue;
-        }
-      }
-      // Pop the next subtree whose entry is not beyond the closest hit so far.
-      for (;;) {
-        if (top == 0) return;
-        const Entry& e = stack[--top];
-        if (!(e.t_entry > hit.t)) {
-          ref = e.ref;
-          break;
-        }
+      if (top == 0) return;
+      const Entry& e = stack[--top];
+      if (!(e.t_entry > hit.t)) {
+        ref = e.ref;
+        break;
       }
     }
   }
 }
 
 }  // namespace rayaccel::wide
+
+#include "rayaccel/wide/any_hit_traversal.h"  // IWYU pragma: export

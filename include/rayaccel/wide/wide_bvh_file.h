@@ -11,7 +11,7 @@
 namespace rayaccel::wide {
 
 inline constexpr char kWideBvhFileMagic[8] = {'R', 'A', 'Y', 'A', 'W', 'B', 'V', 'H'};
-inline constexpr std::uint32_t kWideBvhFileVersion = 1;
+inline constexpr std::uint32_t kWideBvhFileVersion = 2;
 
 struct WideBvhFileHeader {
   char magic[8];                    // 8 bytes: kWideBvhFileMagic
