@@ -86,8 +86,9 @@ class CContext {
     if (filter_) {
       context_.filter = [](void* self, const rayaccel::HitCandidate& h) {
         const auto& me = *static_cast<const CContext*>(self);
-        const rayaccel_candidate c{h.geom_id, me.table_.local_primitive(h.prim_id), h.t, h.u, h.v, h.ray_index};
-        return me.filter_(me.data_, &c) != 0;
+        const rayaccel_candidate candidate{h.geom_id, me.table_.local_primitive(h.prim_id), h.t, h.u, h.v,
+                                           h.ray_index};
+        return me.filter_(me.data_, &candidate) != 0;
       };
       context_.filter_data = this;
     }
@@ -105,25 +106,36 @@ class CContext {
 
 }  // namespace
 
+namespace {
+
+/// Runs `trace(query_context)` for one of the *_context entry points, guarded like every call of the C API.
+template <class Trace>
+rayaccel_status with_context(const char* name, const rayaccel_accel* accel, const rayaccel_query_context* context,
+                             size_t count, Trace trace) {
+  return guarded(name, [&] {
+    require(accel, "accel");
+    const CContext c(*accel, context, count);
+    trace(c.context());
+  });
+}
+
+}  // namespace
+
 extern "C" rayaccel_status rayaccel_intersect_context(const rayaccel_accel* accel,
                                                       const rayaccel_query_context* context, const rayaccel_ray* rays,
                                                       size_t count, rayaccel_hit* hits) {
-  return guarded("rayaccel_intersect_context", [&] {
-    require(accel, "accel");
-    const CContext c(*accel, context, count);
+  return with_context("rayaccel_intersect_context", accel, context, count, [&](const rayaccel::QueryContext& q) {
     trace_hits(accel, rays, count, hits,
-               [&](const rayaccel::Accelerator& a, auto in, auto out) { a.intersect(c.context(), in, out); });
+               [&](const rayaccel::Accelerator& a, auto in, auto out) { a.intersect(q, in, out); });
   });
 }
 
 extern "C" rayaccel_status rayaccel_occluded_context(const rayaccel_accel* accel,
                                                      const rayaccel_query_context* context, const rayaccel_ray* rays,
                                                      size_t count, uint8_t* occluded) {
-  return guarded("rayaccel_occluded_context", [&] {
-    require(accel, "accel");
-    const CContext c(*accel, context, count);
+  return with_context("rayaccel_occluded_context", accel, context, count, [&](const rayaccel::QueryContext& q) {
     trace_occluded(accel, rays, count, occluded,
-                   [&](const rayaccel::Accelerator& a, auto in, auto out) { a.occluded(c.context(), in, out); });
+                   [&](const rayaccel::Accelerator& a, auto in, auto out) { a.occluded(q, in, out); });
   });
 }
 

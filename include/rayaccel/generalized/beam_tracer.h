@@ -69,6 +69,27 @@ BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pi
 
 namespace beam_detail {
 
+/// Traces the pixels [x0, x1) x [y0, y1) of a `width`-wide image one ray at a time from node `start` of `view`,
+/// writing their hits and adding their cost and count to `stats`: the rays a beam leaves undecided.
+template <class View, class Ref>
+void trace_pixels_from(const View& view, Ref start, int x0, int y0, int x1, int y1, int width, const Ray* rays,
+                       Hit* hits, BeamStats& stats) {
+  TraversalStats cost;
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+      const PreparedRay prepared(rays[i]);
+      Hit hit = Hit::begin(prepared);
+      if (!prepared.is_void()) view.trace_from(start, prepared, hit, cost);
+      hit.finish();
+      hits[i] = hit;
+    }
+  }
+  stats.ray_node_visits += cost.nodes_visited;
+  stats.ray_primitive_tests += cost.primitives_tested;
+  stats.pixels_traced += std::uint64_t(x1 - x0) * std::uint64_t(y1 - y0);
+}
+
 /// One tile's work: the rays are those of the whole image, the tile a rectangle of it.
 template <class View>
 class TileTracer {
@@ -215,19 +236,7 @@ class TileTracer {
   }
 
   void trace_rays(int x0, int y0, int x1, int y1, Ref start, BeamStats& stats) const {
-    TraversalStats cost;
-    for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) {
-        const PreparedRay prepared(ray(x, y));
-        Hit hit = Hit::begin(prepared);
-        if (!prepared.is_void()) view_.trace_from(start, prepared, hit, cost);
-        hit.finish();
-        hits_[index(x, y)] = hit;
-      }
-    }
-    stats.ray_node_visits += cost.nodes_visited;
-    stats.ray_primitive_tests += cost.primitives_tested;
-    stats.pixels_traced += std::uint64_t(x1 - x0) * std::uint64_t(y1 - y0);
+    trace_pixels_from(view_, start, x0, y0, x1, y1, pixels_.width, rays_.data(), hits_.data(), stats);
   }
 
   const View& view_;

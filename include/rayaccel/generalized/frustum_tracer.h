@@ -110,19 +110,8 @@ class FrustumTileTracer {
   }
 
   void trace_rays(const Tile& t, std::uint32_t start, BeamStats& stats) const {
-    TraversalStats cost;
-    for (int y = t.y0; y < t.y1; ++y) {
-      for (int x = t.x0; x < t.x1; ++x) {
-        const PreparedRay prepared(rays_[index(x, y)]);
-        Hit hit = Hit::begin(prepared);
-        if (!prepared.is_void()) view_.trace_from(start, prepared, hit, cost);
-        hit.finish();
-        hits_[index(x, y)] = hit;
-      }
-    }
-    stats.ray_node_visits += cost.nodes_visited;
-    stats.ray_primitive_tests += cost.primitives_tested;
-    stats.pixels_traced += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+    beam_detail::trace_pixels_from(view_, start, t.x0, t.y0, t.x1, t.y1, pixels_.width, rays_.data(), hits_.data(),
+                                   stats);
   }
 
   std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(pixels_.width) + std::size_t(x); }
