@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <string>
@@ -25,9 +26,10 @@ std::vector<simd::Isa> isas() {
   return out;
 }
 
-/// The children of frustum_child_lanes() for `boxes` (at most 8), on the lanes of `isa` (four-wide nodes for SSE).
-int kept_lanes(simd::Isa isa, const BeamFrustum& f, const std::vector<AABB>& boxes, float slack_scale) {
-  int kept = 0;
+/// The children of frustum_child_lanes() for `boxes` (at most 63, one bit each), on the lanes of `isa` (four-wide
+/// nodes for SSE).
+std::uint64_t kept_lanes(simd::Isa isa, const BeamFrustum& f, const std::vector<AABB>& boxes, float slack_scale) {
+  std::uint64_t kept = 0;
   simd::run_with_lanes(isa, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
     constexpr int W = Lanes::kWidth;
     for (std::size_t first = 0; first < boxes.size(); first += W) {
@@ -37,7 +39,7 @@ int kept_lanes(simd::Isa isa, const BeamFrustum& f, const std::vector<AABB>& box
         if (first + lane < boxes.size()) box = boxes[first + lane];
         wide::set_child_bounds(node, lane, box);
       }
-      kept |= generalized::frustum_child_lanes<Lanes, W>(f, node, slack_scale) << first;
+      kept |= std::uint64_t(generalized::frustum_child_lanes<Lanes, W>(f, node, slack_scale)) << first;
     }
   });
   return kept;
@@ -78,7 +80,7 @@ TEST(BeamFrustum, BoxesTheBeamTouchesAreNeverCulled) {
         const RandomFrustum rf = random_frustum(rng, apex, 0.001f + 0.3f * float(unit(rng)));
         ASSERT_TRUE(rf.frustum.valid());
         std::vector<AABB> touching, away;
-        for (int k = 0; k < 64; ++k) {
+        for (int k = 0; k < 63; ++k) {  // at most 63 boxes: one bit each in a 64-bit mask
           // A direction on or near the beam's boundary (one or two weights zero or near it) or inside it.
           double w[4], sum = 0;
           for (double& x : w) sum += (x = unit(rng) * unit(rng) * unit(rng));
@@ -98,16 +100,16 @@ TEST(BeamFrustum, BoxesTheBeamTouchesAreNeverCulled) {
           away.push_back(AABB{q, q});
         }
         if (touching.empty()) continue;
-        const int all = int((1u << touching.size()) - 1u);
+        const std::uint64_t all = (std::uint64_t(1) << touching.size()) - 1;
         for (const float slack : {0.0f, BeamFrustum::kSlackScale}) {
-          const int kept = kept_lanes(isa, rf.frustum, touching, slack);
+          const std::uint64_t kept = kept_lanes(isa, rf.frustum, touching, slack);
           EXPECT_EQ(kept & all, all) << simd::to_string(isa) << " scale " << scale << " slack " << slack
                                      << ": a box on a ray of the beam was culled";
         }
         checked += int(touching.size());
-        const int kept_away = kept_lanes(isa, rf.frustum, away, BeamFrustum::kSlackScale);
+        const std::uint64_t kept_away = kept_lanes(isa, rf.frustum, away, BeamFrustum::kSlackScale);
         off_beam += int(away.size());
-        culled_off_beam += int(away.size()) - __builtin_popcount(unsigned(kept_away) & unsigned(all));
+        culled_off_beam += int(away.size()) - __builtin_popcountll(kept_away & all);
       }
     }
     EXPECT_GT(checked, 4000) << simd::to_string(isa);
