@@ -12,7 +12,8 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse_any_hit(const NodeArray<Kernel::kWid
                                                      const PreparedRay& ray, Hit& hit, Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (start == kEmptyChild) return;
-  // The arrays' addresses in locals (see traverse_closest).
+  // The arrays' addresses and the ray's prepared forms in locals, as traverse_closest sets them up: kept as plain
+  // locals in each loop (not a shared struct) so the compiler keeps them in registers in both hot loops.
   const Node<W>* const node_at = nodes.data();
   const simd::Triangle4* const blocks = blocks_.data();
   const simd::TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
