@@ -24,24 +24,55 @@ namespace rayaccel::cli {
 
 /// shadow: short ambient-occlusion rays from pbrt-tight origins; occlusion: longer ones from origins a fixed epsilon
 /// off the surface; light: rays to a point light; packet: the primary rays reordered so that each run of eight is a
-/// 4 x 2 pixel tile (packet_tile_order()); light_packet: the light rays of the primary hits in that order.
-/// bench_command.cpp's footer gives the lengths.
-enum class RayKind { primary, diffuse, shadow, occlusion, light, packet, light_packet };
+/// 4 x 2 pixel tile (packet_tile_order()); light_packet: the light rays of the primary hits in that order. The _skip
+/// kinds are the diffuse, shadow, occlusion and light rays again, each traced under a QueryContext that skips the
+/// primitive its origin lies on (what a renderer knows of a secondary ray; not in the default set, since their
+/// answers differ from the plain kinds' only where a ray would re-hit its own surface). bench_command.cpp's footer
+/// gives the lengths.
+enum class RayKind {
+  primary,
+  diffuse,
+  shadow,
+  occlusion,
+  light,
+  packet,
+  light_packet,
+  diffuse_skip,
+  shadow_skip,
+  occlusion_skip,
+  light_skip
+};
 const char* to_string(RayKind kind);
 /// Packet kinds are traced eight rays at a time and take no statistics.
 inline bool is_packet_kind(RayKind kind) { return kind == RayKind::packet || kind == RayKind::light_packet; }
+/// The _skip kinds are traced under a QueryContext and take no statistics either.
+inline bool is_skip_kind(RayKind kind) {
+  return kind == RayKind::diffuse_skip || kind == RayKind::shadow_skip || kind == RayKind::occlusion_skip ||
+         kind == RayKind::light_skip;
+}
 
 /// One set of rays traced the same way for every structure: intersect() for primary and diffuse, occluded() for
-/// shadow, occlusion and light rays, intersect_packets() for packet rays, occluded_packets() for light_packet rays.
+/// shadow, occlusion and light rays, intersect_packets() for packet rays, occluded_packets() for light_packet rays;
+/// the _skip kinds as their plain kind, under a QueryContext with `skip` as its skip_primitive.
 struct Workload {
   RayKind kind = RayKind::primary;
   std::vector<Ray> rays;
+  std::vector<std::uint32_t> skip;  ///< the _skip kinds: per ray, the primitive its origin lies on; else empty
   bool any_hit() const {
     return kind == RayKind::shadow || kind == RayKind::occlusion || kind == RayKind::light ||
-           kind == RayKind::light_packet;
+           kind == RayKind::light_packet || kind == RayKind::shadow_skip || kind == RayKind::occlusion_skip ||
+           kind == RayKind::light_skip;
   }
   bool packets() const { return is_packet_kind(kind); }
+  bool skips() const { return is_skip_kind(kind); }
 };
+
+/// The answers of `accel` to rays `ids` of workload `w`, as its kind is traced: closest hits (`hits`) or occlusion
+/// (`occluded`), the _skip kinds under a QueryContext skipping each ray's origin primitive. Packet workloads are traced
+/// whole with intersect_packets() or occluded_packets() (a subset's rays put together would not be its packets),
+/// unless `ray_by_ray` (the reference's answers: one ray at a time, whatever the kind). Returns the rays `ids`.
+std::vector<Ray> trace_workload(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
+                                std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded, bool ray_by_ray = false);
 
 /// The kinds named in --rays ("primary,shadow,..."), in the given order, each once; UsageError for an unknown one.
 std::vector<RayKind> parse_kinds(const std::string& text);
@@ -178,7 +209,11 @@ class ReferenceCheck {
 /// bit for bit in t, u and v (a miss: t = +inf, u = v = 0); else what differs.
 std::string kernel_fault(const Scene& scene, const Ray& ray, const Hit& hit);
 
-/// The row of plain "embree" (the one ratios are taken to) when it was measured without failing, else null.
+/// The Embree the bench builds, as its reference and its row: plain "embree", or, when a _skip kind is asked for,
+/// kEmbreeWithFilter, whose scene takes the context filter the skip queries go through.
+inline constexpr const char* kEmbreeWithFilter = "embree:filter=1";
+std::string bench_embree_spec(const std::vector<RayKind>& kinds);
+/// The bench's own Embree row (the one ratios are taken to) when it was measured without failing, else null.
 const StructureResult* embree_row(const SceneReport& report);
 /// Two decimals, or three significant digits for small values (brute force runs at thousandths of a Mray/s).
 std::string number(double value);

@@ -62,31 +62,6 @@ std::vector<std::size_t> spread(std::size_t n, std::size_t count) {
   return positions;
 }
 
-/// The rays `ids` of workload `w`, and the answers of `accel` to them: closest hits (`hits`) or occlusion
-/// (`occluded`). Packet workloads are traced whole with intersect_packets() or occluded_packets(), so the packets
-/// are the timed ones (a subset's rays put together would not be its packets).
-std::vector<Ray> trace(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
-                       std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded) {
-  std::vector<Ray> rays(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) rays[i] = w.rays[ids[i]];
-  hits.assign(w.any_hit() ? 0 : rays.size(), Hit{});
-  occluded.assign(w.any_hit() ? rays.size() : 0, 0);
-  if (w.any_hit() && w.packets()) {
-    std::vector<std::uint8_t> all(w.rays.size());
-    accel.occluded_packets(w.rays, all);
-    for (std::size_t i = 0; i < ids.size(); ++i) occluded[i] = all[ids[i]];
-  } else if (w.any_hit()) {
-    accel.occluded(rays, occluded);
-  } else if (w.packets()) {
-    std::vector<Hit> all(w.rays.size());
-    accel.intersect_packets(w.rays, all);
-    for (std::size_t i = 0; i < ids.size(); ++i) hits[i] = all[ids[i]];
-  } else {
-    accel.intersect(rays, hits);
-  }
-  return rays;
-}
-
 /// A foreign kernel's closest hit against brute force's: both miss, or both hit at t within `relative` of each
 /// other, on any primitive (another kernel's rounding may pick the other side of a near tie).
 bool agrees_as_foreign(const Hit& got, const Hit& want, float relative) {
@@ -94,6 +69,37 @@ bool agrees_as_foreign(const Hit& got, const Hit& want, float relative) {
   return !got.found() || std::fabs(got.t - want.t) <= relative * std::fabs(want.t);
 }
 }  // namespace
+
+std::vector<Ray> trace_workload(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
+                                std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded, bool ray_by_ray) {
+  std::vector<Ray> rays(ids.size());
+  std::vector<std::uint32_t> skip(w.skips() ? ids.size() : 0);
+  for (std::size_t i = 0; i < ids.size(); ++i) rays[i] = w.rays[ids[i]];
+  for (std::size_t i = 0; i < skip.size(); ++i) skip[i] = w.skip[ids[i]];
+  QueryContext context;
+  context.skip_primitive = skip;
+  hits.assign(w.any_hit() ? 0 : rays.size(), Hit{});
+  occluded.assign(w.any_hit() ? rays.size() : 0, 0);
+  const bool packets = w.packets() && !ray_by_ray;
+  if (w.any_hit() && packets) {
+    std::vector<std::uint8_t> all(w.rays.size());
+    accel.occluded_packets(w.rays, all);
+    for (std::size_t i = 0; i < ids.size(); ++i) occluded[i] = all[ids[i]];
+  } else if (packets) {
+    std::vector<Hit> all(w.rays.size());
+    accel.intersect_packets(w.rays, all);
+    for (std::size_t i = 0; i < ids.size(); ++i) hits[i] = all[ids[i]];
+  } else if (w.any_hit() && w.skips()) {
+    accel.occluded(context, rays, occluded);
+  } else if (w.any_hit()) {
+    accel.occluded(rays, occluded);
+  } else if (w.skips()) {
+    accel.intersect(context, rays, hits);
+  } else {
+    accel.intersect(rays, hits);
+  }
+  return rays;
+}
 
 ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& workloads, const Accelerator* embree,
                                std::size_t sample_size)
@@ -105,16 +111,8 @@ ReferenceCheck::ReferenceCheck(const Scene& scene, const std::vector<Workload>& 
     const std::size_t n = w.rays.size();
     a.indices = spread(n, from_embree_ ? n : std::min(n, sample_size));
     if (from_embree_) a.sample = spread(n, std::min(n, sample_size));
-    std::vector<Ray> rays(a.indices.size());
-    for (std::size_t i = 0; i < rays.size(); ++i) rays[i] = w.rays[a.indices[i]];
     const Accelerator& reference = from_embree_ ? *embree : static_cast<const Accelerator&>(oracle_);
-    if (w.any_hit()) {
-      a.occluded.resize(rays.size());
-      reference.occluded(rays, a.occluded);
-    } else {
-      a.hits.resize(rays.size());
-      reference.intersect(rays, a.hits);
-    }
+    trace_workload(reference, w, a.indices, a.hits, a.occluded, true);
     answers_.push_back(std::move(a));
   }
   // Brute force's answers on the sample, once: every structure is checked against them besides Embree's.
@@ -137,16 +135,17 @@ void ReferenceCheck::settle(std::size_t workload, const std::vector<std::size_t>
   }
   if (pending.empty()) return;
   // One parallel brute-force batch for every new disagreement; the answers are kept for the next structures.
-  std::vector<Ray> rays(pending.size());
-  for (std::size_t j = 0; j < pending.size(); ++j) rays[j] = w.rays[answers_[workload].indices[pending[j]]];
-  if (w.any_hit()) {
-    std::vector<std::uint8_t> occluded(rays.size());
-    oracle_.occluded(rays, occluded);
-    for (std::size_t j = 0; j < pending.size(); ++j) settled[pending[j]].occluded = occluded[j] != 0;
-  } else {
-    std::vector<Hit> hits(rays.size());
-    oracle_.intersect(rays, hits);
-    for (std::size_t j = 0; j < pending.size(); ++j) settled[pending[j]].hit = hits[j];
+  std::vector<std::size_t> ids(pending.size());
+  for (std::size_t j = 0; j < pending.size(); ++j) ids[j] = answers_[workload].indices[pending[j]];
+  std::vector<Hit> hits;
+  std::vector<std::uint8_t> occluded;
+  trace_workload(oracle_, w, ids, hits, occluded, true);
+  for (std::size_t j = 0; j < pending.size(); ++j) {
+    if (w.any_hit()) {
+      settled[pending[j]].occluded = occluded[j] != 0;
+    } else {
+      settled[pending[j]].hit = hits[j];
+    }
   }
 }
 
@@ -157,7 +156,7 @@ void ReferenceCheck::check(const Accelerator& accel, std::vector<KindResult>& ki
     KindResult& result = kinds[k];
     std::vector<Hit> hits;
     std::vector<std::uint8_t> occluded;
-    const std::vector<Ray> rays = trace(accel, w, a.indices, hits, occluded);
+    const std::vector<Ray> rays = trace_workload(accel, w, a.indices, hits, occluded);
     result.checked = rays.size();
     // First pass: answers the reference accepts, and rays to settle by brute force (Embree's disagreements).
     std::vector<std::size_t> disagreements;
@@ -222,7 +221,7 @@ void ReferenceCheck::check_foreign(const Accelerator& foreign, std::vector<KindR
     for (std::size_t j = 0; j < ids.size(); ++j) ids[j] = a.indices[a.sample[j]];
     std::vector<Hit> hits;
     std::vector<std::uint8_t> occluded;
-    const std::vector<Ray> rays = trace(foreign, w, ids, hits, occluded);
+    const std::vector<Ray> rays = trace_workload(foreign, w, ids, hits, occluded);
     result.checked = rays.size();
     std::size_t examples = 0;
     for (std::size_t j = 0; j < rays.size(); ++j) {

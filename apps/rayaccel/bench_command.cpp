@@ -155,6 +155,10 @@ Command add_bench_command(CLI::App& root) {
       "light_packet = the light rays of the primary hits in that tile order (pixels that miss have none), each run\n"
       "of eight traced together with occluded_packets() (Embree: rtcOccluded8). Packet rays have no nodes/prims\n"
       "column: packet traversals take no statistics.\n"
+      "Not in the default set: diffuse_skip, shadow_skip, occlusion_skip and light_skip = the same rays traced\n"
+      "with a QueryContext that skips the primitive each ray starts on (Embree: an intersection filter that\n"
+      "rejects it, its scene committed with RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION, the row then named\n"
+      "embree:filter=1 for every kind); no nodes/prims column either.\n"
       "Memory: 'memory MB' is the structure's own data; 'with input MB' adds the input its queries read (the\n"
       "scene's arrays for rayaccel's structures; for Embree, the vertex and index buffers it was handed).");
   return {app, [args, threads, heat_max] { return run_bench(*args, threads->count() > 0, heat_max->count() > 0); }};

@@ -17,6 +17,10 @@ const char* to_string(RayKind kind) {
     case RayKind::light: return "light";
     case RayKind::packet: return "packet";
     case RayKind::light_packet: return "light_packet";
+    case RayKind::diffuse_skip: return "diffuse_skip";
+    case RayKind::shadow_skip: return "shadow_skip";
+    case RayKind::occlusion_skip: return "occlusion_skip";
+    case RayKind::light_skip: return "light_skip";
   }
   return "?";
 }
@@ -29,7 +33,7 @@ std::size_t StructureResult::mismatches() const {
 
 const StructureResult* embree_row(const SceneReport& report) {
   for (const auto& row : report.rows) {
-    if (row.is_embree && row.spec == "embree" && row.failure.empty()) return &row;
+    if (row.is_embree && (row.spec == "embree" || row.spec == kEmbreeWithFilter) && row.failure.empty()) return &row;
   }
   return nullptr;
 }

@@ -2,6 +2,7 @@
 // of 3 after a warm-up), memory, a check of every answer, the timed trace passes, traversal statistics and images.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -73,10 +74,16 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
     ctx.progress.step(fmt::format("tracing {} {} rays", w.rays.size(), to_string(w.kind)));
     std::vector<Hit> hits(w.any_hit() ? 0 : w.rays.size());
     std::vector<std::uint8_t> occluded(w.any_hit() ? w.rays.size() : 0);
+    QueryContext skip_origin;
+    skip_origin.skip_primitive = w.skip;
     const auto pass = [&] {
       const Stopwatch clock;
       if (w.any_hit() && w.packets()) {
         accel.occluded_packets(w.rays, occluded);
+      } else if (w.any_hit() && w.skips()) {
+        accel.occluded(skip_origin, w.rays, occluded);
+      } else if (w.skips()) {
+        accel.intersect(skip_origin, w.rays, hits);
       } else if (w.any_hit()) {
         accel.occluded(w.rays, occluded);
       } else if (w.packets()) {
@@ -99,12 +106,12 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
   }
 }
 
-/// An untimed pass with TraversalStats per ray: nodes visited and primitives tested per ray. Not for packet rays:
-/// intersect_packets() and occluded_packets() take no statistics.
+/// An untimed pass with TraversalStats per ray: nodes visited and primitives tested per ray. Not for packet rays and
+/// the _skip kinds: intersect_packets(), occluded_packets() and the queries with a context take no statistics.
 void count_traversal(const SceneContext& ctx, const Accelerator& accel, StructureResult& row) {
   for (std::size_t k = 0; k < ctx.workloads.size(); ++k) {
     const Workload& w = ctx.workloads[k];
-    if (w.packets()) continue;
+    if (w.packets() || w.skips()) continue;
     std::vector<TraversalStats> stats(w.rays.size());
     if (w.any_hit()) {
       std::vector<std::uint8_t> occluded(w.rays.size());
@@ -219,6 +226,11 @@ double scene_preparation_ms(const Scene& scene) {
 
 }  // namespace
 
+std::string bench_embree_spec(const std::vector<RayKind>& kinds) {
+  const bool skips = std::any_of(kinds.begin(), kinds.end(), is_skip_kind);
+  return skips ? kEmbreeWithFilter : "embree";
+}
+
 std::string bench_image_name(const std::string& scene_name, const std::string& spec, const char* mode_name) {
   return safe_file_name(scene_name) + "_" + safe_file_name(spec) + "_" + mode_name + ".png";
 }
@@ -249,10 +261,11 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
   // Embree answers every reference query when it is built in (it builds in a fraction of a second where brute
   // force's sample would take minutes on a large scene); the measured row is only added with --compare.
   std::unique_ptr<Accelerator> embree;
+  const std::string embree_spec = bench_embree_spec(kinds);
   if (has_accelerator("embree") && scene.kind() == PrimitiveKind::triangles) {
     progress.stage(fmt::format("{}: building the embree reference that checks the answers (not timed)",
                                scene.name()));
-    embree = make_structure("embree", threads);
+    embree = make_structure(embree_spec, threads);
     embree->build(scene);
   }
   const bool compare_embree = args.compare == "embree";
@@ -293,11 +306,11 @@ SceneReport bench_scene(const std::string& scene_spec, const std::vector<std::st
                          report.scene_preparation_ms};
   const bool embree_row = compare_embree && embree;
   const std::size_t count = specs.size() + (embree_row ? 2 : 0);
-  if (embree_row) report.rows.push_back(measure(ctx, "embree", true, 1, count));
+  if (embree_row) report.rows.push_back(measure(ctx, embree_spec, true, 1, count));
   for (const auto& spec : specs) {
     report.rows.push_back(measure(ctx, spec, is_comparison_spec(spec), report.rows.size() + 1, count));
   }
-  if (embree_row) pool_measurements(report.rows.front(), measure(ctx, "embree", true, count, count));
+  if (embree_row) pool_measurements(report.rows.front(), measure(ctx, embree_spec, true, count, count));
   progress.done();
   return report;
 }

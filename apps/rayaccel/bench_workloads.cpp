@@ -39,17 +39,29 @@ std::vector<T> in_tile_order(const std::vector<T>& per_pixel, int resolution) {
   return tiled;
 }
 
+/// The primitive each secondary ray starts on: the secondary generators make one ray per hit, in the hits' order.
+std::vector<std::uint32_t> origin_primitives(const std::vector<Hit>& hits) {
+  std::vector<std::uint32_t> prims;
+  for (const Hit& h : hits) {
+    if (h.found()) prims.push_back(h.prim_id);
+  }
+  return prims;
+}
+
 }  // namespace
 
 std::vector<RayKind> parse_kinds(const std::string& text) {
-  constexpr RayKind kAll[] = {RayKind::primary, RayKind::diffuse, RayKind::shadow,      RayKind::occlusion,
-                              RayKind::light,   RayKind::packet,  RayKind::light_packet};
+  constexpr RayKind kAll[] = {RayKind::primary,      RayKind::diffuse,     RayKind::shadow,
+                              RayKind::occlusion,    RayKind::light,       RayKind::packet,
+                              RayKind::light_packet, RayKind::diffuse_skip, RayKind::shadow_skip,
+                              RayKind::occlusion_skip, RayKind::light_skip};
   std::vector<RayKind> kinds;
   for (const auto& item : split_list(text)) {
     const auto known = std::find_if(std::begin(kAll), std::end(kAll), [&](RayKind k) { return item == to_string(k); });
     if (known == std::end(kAll)) {
       throw UsageError("--rays: unknown ray kind '" + item +
-                       "' (known: primary, diffuse, shadow, occlusion, light, packet, light_packet)");
+                       "' (known: primary, diffuse, shadow, occlusion, light, packet, light_packet, diffuse_skip, "
+                       "shadow_skip, occlusion_skip, light_skip)");
     }
     if (std::find(kinds.begin(), kinds.end(), *known) == kinds.end()) kinds.push_back(*known);
   }
@@ -65,17 +77,24 @@ std::vector<Workload> make_workloads(const Scene& scene, const Camera& camera, c
   for (const RayKind kind : kinds) {
     Workload w;
     w.kind = kind;
+    if (w.skips()) w.skip = origin_primitives(primary_hits);
     switch (kind) {
       case RayKind::primary: w.rays = primary; break;
-      case RayKind::diffuse: w.rays = diffuse_rays(scene, primary, primary_hits, kDiffuseSeed); break;
+      case RayKind::diffuse:
+      case RayKind::diffuse_skip: w.rays = diffuse_rays(scene, primary, primary_hits, kDiffuseSeed); break;
       case RayKind::shadow:
+      case RayKind::shadow_skip:
         w.rays = shadow_rays(scene, primary, primary_hits, kShadowDistanceFraction * diagonal, kShadowSeed);
         break;
       case RayKind::occlusion:
+      case RayKind::occlusion_skip:
         w.rays = shadow_rays(scene, primary, primary_hits, kOcclusionDistanceFraction * diagonal, kOcclusionSeed,
                              OriginOffset{kFixedOffsetFraction * diagonal});
         break;
-      case RayKind::light: w.rays = light_rays(scene, primary, primary_hits, light_position(scene, camera)); break;
+      case RayKind::light:
+      case RayKind::light_skip:
+        w.rays = light_rays(scene, primary, primary_hits, light_position(scene, camera));
+        break;
       case RayKind::packet: w.rays = in_tile_order(primary, resolution); break;
       case RayKind::light_packet:
         // The light rays of the primary hits taken in tile order: the same rays as `light`, neighbours together.

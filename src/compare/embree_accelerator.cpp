@@ -19,6 +19,7 @@
 
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/float_rounding.h"
+#include "rayaccel/core/query_context.h"
 
 namespace rayaccel {
 
@@ -171,7 +172,10 @@ void EmbreeAccelerator::build(const Scene& scene) {
   const std::int64_t before = s.allocated.load();
   s.scene = rtcNewScene(s.device);
   rtcSetSceneBuildQuality(s.scene, to_embree(s.options.quality));
-  if (s.options.robust) rtcSetSceneFlags(s.scene, RTC_SCENE_FLAG_ROBUST);
+  int flags = RTC_SCENE_FLAG_NONE;
+  if (s.options.robust) flags |= RTC_SCENE_FLAG_ROBUST;
+  if (s.options.context_filter) flags |= RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION;
+  rtcSetSceneFlags(s.scene, static_cast<RTCSceneFlags>(flags));
   if (!s.triangles.empty()) {
     RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.vertices.data(), 0,
@@ -232,35 +236,99 @@ void trace_packets(std::span<const Ray> rays, RTCScene scene, Trace&& trace, Sto
 
 }  // namespace
 
-Hit EmbreeAccelerator::intersect(const Ray& ray) const {
+namespace {
+
+/// What a single-ray query reads of the built scene.
+struct Built {
+  RTCScene scene;
+  const std::vector<std::uint32_t>& prim_ids;  ///< Embree's primID -> the scene's id
+};
+
+/// The closest hit of one ray under an Embree intersect context (a plain one, or a FilteredContext's).
+Hit intersect_in(const Built& built, RTCIntersectContext& context, const Ray& ray) {
   Hit hit;
-  if (!state_->scene || cannot_hit(ray)) return hit;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  if (!built.scene || cannot_hit(ray)) return hit;
   RTCRayHit query;
   to_embree(ray, query.ray);
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   query.hit.primID = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(state_->scene, &context, &query);
+  rtcIntersect1(built.scene, &context, &query);
   if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
     hit.t = query.ray.tfar;
-    hit.prim_id = state_->prim_ids[query.hit.primID];
+    hit.prim_id = built.prim_ids[query.hit.primID];
     hit.u = query.hit.u;
     hit.v = query.hit.v;
   }
   return hit;
 }
 
+/// Whether one ray is occluded under an Embree intersect context; Embree marks it by tfar = -inf.
+bool occluded_in(const Built& built, RTCIntersectContext& context, const Ray& ray) {
+  if (!built.scene || cannot_hit(ray)) return false;
+  RTCRay query;
+  to_embree(ray, query);
+  rtcOccluded1(built.scene, &context, &query);
+  return query.tfar == -std::numeric_limits<float>::infinity();
+}
+
+/// The intersect context of a query with a QueryContext: Embree hands its address back to context_filter(), which
+/// finds the ray's rules and the id map beside it.
+struct FilteredContext {
+  RTCIntersectContext rtc;  // first: its address is the object's
+  const ContextStats<NoStats>* rules;
+  const std::vector<std::uint32_t>* prim_ids;
+};
+
+/// Embree's context filter: clears valid[i] for a candidate the rules rule out or the user's filter rejects, so that
+/// Embree drops it and traverses on (Embree passes the candidate's distance as the ray's tfar).
+void context_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* context = reinterpret_cast<const FilteredContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    Hit candidate;
+    candidate.prim_id = (*context->prim_ids)[RTCHitN_primID(args->hit, args->N, i)];
+    bool keep = context->rules->allows(candidate.prim_id);
+    if (keep && context->rules->has_filter()) {
+      candidate.t = RTCRayN_tfar(args->ray, args->N, i);
+      candidate.u = RTCHitN_u(args->hit, args->N, i);
+      candidate.v = RTCHitN_v(args->hit, args->N, i);
+      keep = context->rules->accepts(candidate);
+    }
+    if (!keep) args->valid[i] = 0;
+  }
+}
+
+/// Runs query(built, rtc) with an Embree context whose filter applies `context`'s rules for ray `ray_index`; Error
+/// when the scene was committed without the context-filter flag (Embree would never call the filter).
+template <class Query>
+auto with_context(const Built& built, bool has_filter_flag, const QueryContext& context, std::size_t ray_index,
+                  Query&& query) {
+  if (!has_filter_flag) {
+    throw Error("embree: queries with a context (skip, masks, filters) need the scene's context filter: "
+                "embree:filter=1");
+  }
+  NoStats none;
+  const ContextStats<NoStats> rules(context, ray_index, none);
+  FilteredContext filtered{{}, &rules, &built.prim_ids};
+  rtcInitIntersectContext(&filtered.rtc);
+  filtered.rtc.filter = context_filter;
+  return query(built, filtered.rtc);
+}
+
+}  // namespace
+
+Hit EmbreeAccelerator::intersect(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  return intersect_in({state_->scene, state_->prim_ids}, context, ray);
+}
+
 Hit EmbreeAccelerator::intersect(const Ray& ray, TraversalStats&) const { return intersect(ray); }
 
 bool EmbreeAccelerator::occluded(const Ray& ray) const {
-  if (!state_->scene || cannot_hit(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay query;
-  to_embree(ray, query);
-  rtcOccluded1(state_->scene, &context, &query);
-  return query.tfar == -std::numeric_limits<float>::infinity();
+  return occluded_in({state_->scene, state_->prim_ids}, context, ray);
 }
 
 bool EmbreeAccelerator::occluded(const Ray& ray, TraversalStats&) const { return occluded(ray); }
@@ -316,6 +384,47 @@ void EmbreeAccelerator::occluded(std::span<const Ray> rays, std::span<std::uint8
   });
 }
 
+Hit EmbreeAccelerator::intersect(const QueryContext& context, const Ray& ray, std::size_t ray_index) const {
+  detail::check_context_index(context, ray_index);
+  return with_context({state_->scene, state_->prim_ids}, state_->options.context_filter, context, ray_index,
+                      [&](const Built& b, RTCIntersectContext& c) { return intersect_in(b, c, ray); });
+}
+
+bool EmbreeAccelerator::occluded(const QueryContext& context, const Ray& ray, std::size_t ray_index) const {
+  detail::check_context_index(context, ray_index);
+  return with_context({state_->scene, state_->prim_ids}, state_->options.context_filter, context, ray_index,
+                      [&](const Built& b, RTCIntersectContext& c) { return occluded_in(b, c, ray); });
+}
+
+void EmbreeAccelerator::intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const {
+  detail::check_batch_sizes(rays.size(), hits.size(), 0);
+  detail::check_context_sizes(context, rays.size());
+  const Built built{state_->scene, state_->prim_ids};
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    const EmbreeFloatMode mode;
+    for (std::size_t i = begin; i < end; ++i) {
+      hits[i] = with_context(built, state_->options.context_filter, context, i,
+                             [&](const Built& b, RTCIntersectContext& c) { return intersect_in(b, c, rays[i]); });
+    }
+  });
+}
+
+void EmbreeAccelerator::occluded(const QueryContext& context, std::span<const Ray> rays,
+                                 std::span<std::uint8_t> occluded_out) const {
+  detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
+  detail::check_context_sizes(context, rays.size());
+  const Built built{state_->scene, state_->prim_ids};
+  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    const EmbreeFloatMode mode;
+    for (std::size_t i = begin; i < end; ++i) {
+      occluded_out[i] = with_context(built, state_->options.context_filter, context, i,
+                                     [&](const Built& b, RTCIntersectContext& c) { return occluded_in(b, c, rays[i]); })
+                            ? 1
+                            : 0;
+    }
+  });
+}
+
 std::size_t EmbreeAccelerator::memory_bytes() const {
   return state_->scene_bytes > 0 ? static_cast<std::size_t>(state_->scene_bytes) : 0;
 }
@@ -356,6 +465,9 @@ const OptionTable<EmbreeOptions>& embree_option_table() {
               {"high", EmbreeBuildQuality::high}},
              "Embree's build quality (RTC_BUILD_QUALITY_*)");
     t.boolean("robust", &O::robust, "RTC_SCENE_FLAG_ROBUST: Embree's watertight mode");
+    t.boolean("filter", &O::context_filter,
+              "RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION: queries with a context (skip, masks, filters) through an "
+              "intersection filter");
     t.integer("threads", &O::threads, 0, 1 << 16,
               "Embree's worker threads; 0 = Embree's default (the CLI passes its --threads)");
     return t;

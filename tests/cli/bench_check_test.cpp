@@ -45,10 +45,24 @@ class CorruptedBruteForce final : public Accelerator {
       for (std::size_t i = 0; i < rays.size(); ++i) corrupt_packets_(i, out[i]);
     }
   }
+  /// Queries with a context: brute force's, or, after ignore_context(), the plain queries' answers (a structure that
+  /// ignores the skip).
+  void intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const override {
+    if (!ignore_context_) return oracle_.intersect(context, rays, hits);
+    intersect(rays, hits, {});
+  }
+  void occluded(const QueryContext& context, std::span<const Ray> rays, std::span<std::uint8_t> out) const override {
+    if (!ignore_context_) return oracle_.occluded(context, rays, out);
+    occluded(rays, out, {});
+  }
+  using Accelerator::intersect;
+  using Accelerator::occluded;
+  void ignore_context() { ignore_context_ = true; }
   std::size_t memory_bytes() const override { return 0; }
   std::vector<std::string> validate() const override { return {}; }
 
  private:
+  bool ignore_context_ = false;
   BruteForce oracle_;
   std::function<void(const Ray&, Hit&)> corrupt_;
   std::function<void(std::size_t, std::uint8_t&)> corrupt_packets_;
@@ -192,6 +206,37 @@ TEST(BenchCheck, CatchesWrongOcclusionPacketsAgainstEmbree) {
   const Scene scene = two_close_layers();
   embree.build(scene);
   expect_check_catches_wrong_occlusion_packets(&embree);
+}
+#endif
+
+/// The _skip kinds are traced and checked under their context: each straight-down ray skips the near layer's triangle
+/// it crosses, so the right answer is the farther layer, and a structure that ignores the skip fails on every ray.
+void expect_check_catches_ignored_skips(const Accelerator* embree) {
+  const Scene scene = two_close_layers();
+  std::vector<Workload> workloads = straight_down_rays();
+  workloads[0].kind = RayKind::diffuse_skip;
+  BruteForce oracle;
+  oracle.build(scene);
+  for (const Ray& ray : workloads[0].rays) workloads[0].skip.push_back(oracle.intersect(ray).prim_id);
+  CorruptedBruteForce honest([](const Ray&, Hit&) {});
+  honest.build(scene);
+  EXPECT_EQ(mismatches(honest, scene, workloads, embree), 0u) << "an honest structure passes";
+  CorruptedBruteForce ignoring([](const Ray&, Hit&) {});
+  ignoring.ignore_context();
+  ignoring.build(scene);
+  EXPECT_EQ(mismatches(ignoring, scene, workloads, embree), 64u);
+  workloads[0].kind = RayKind::occlusion_skip;  // both layers lie within reach: occluded either way
+  EXPECT_EQ(mismatches(ignoring, scene, workloads, embree), 0u);
+}
+
+TEST(BenchCheck, CatchesStructuresThatIgnoreTheSkipAgainstBruteForce) { expect_check_catches_ignored_skips(nullptr); }
+
+#ifdef RAYACCEL_HAVE_EMBREE
+TEST(BenchCheck, CatchesStructuresThatIgnoreTheSkipAgainstEmbreesFilter) {
+  EmbreeAccelerator embree(EmbreeOptions{0, EmbreeBuildQuality::medium, false, true});
+  const Scene scene = two_close_layers();
+  embree.build(scene);
+  expect_check_catches_ignored_skips(&embree);
 }
 #endif
 

@@ -192,6 +192,41 @@ TEST(CliBench, PacketRaysAloneAreTracedAndChecked) {
   }
 }
 
+TEST(CliBench, SkipKindsAreTracedUnderTheirContextAndChecked) {
+  const SmallCase c = make_small_case();
+  const auto json_path = c.dir / "bench_skip.json";
+  std::vector<std::string> args = {"bench", c.ply.string(), "--accel", "brute_force,bvh_wide,grid", "--rays",
+                                   "occlusion,diffuse_skip,shadow_skip,occlusion_skip,light_skip", "--res", "12",
+                                   "--repeat", "1", "--json", json_path.string()};
+#ifdef RAYACCEL_HAVE_EMBREE
+  args.insert(args.end(), {"--compare", "embree"});
+#endif
+  const auto result = run_cli(args);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(testing::read_file(json_path));
+  const auto& rows = report["scenes"][0]["results"];
+#ifdef RAYACCEL_HAVE_EMBREE
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0]["accel"], "embree:filter=1") << "the skip queries need Embree's context filter";
+  EXPECT_NE(result.out.find("x)"), std::string::npos) << "ratios to Embree expected:\n" << result.out;
+#else
+  ASSERT_EQ(rows.size(), 3u);
+#endif
+  for (const auto& row : rows) {
+    ASSERT_EQ(row["rays"].size(), 5u) << row.dump();
+    EXPECT_EQ(row["rays"]["occlusion_skip"]["rays"], row["rays"]["occlusion"]["rays"]) << "the same rays";
+    for (const char* kind : {"diffuse_skip", "shadow_skip", "occlusion_skip", "light_skip"}) {
+      const auto& k = row["rays"][kind];
+      EXPECT_GT(k["rays"].get<int>(), 0) << kind;
+      EXPECT_GT(k["mrays_s_median"].get<double>(), 0.0) << kind;
+      EXPECT_FALSE(k.contains("nodes_per_ray")) << "queries with a context take no statistics";
+      if (row["is_embree"]) continue;
+      EXPECT_EQ(k["checked"], k["rays"]) << row["accel"] << " " << kind;
+      EXPECT_EQ(k["mismatches"], 0) << row["accel"] << " " << kind;
+    }
+  }
+}
+
 TEST(CliBench, SphereSceneIsCheckedAgainstBruteForceSample) {
   const auto dir = fresh_directory("spheres");
   const auto json_path = dir / "bench.json";

@@ -16,6 +16,7 @@
 #include "rayaccel/accel/brute_force.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
+#include "rayaccel/core/query_context.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/workloads.h"
 #include "rayaccel/scene/builtin_scenes.h"
@@ -315,6 +316,52 @@ TEST(EmbreeAccelerator, GetsOnlyTheTrianglesOurStructuresBuildOver) {
   EXPECT_EQ(embree.input_memory_bytes(scene), (6 * 3 + 1) * sizeof(float) + 2 * 3 * sizeof(std::uint32_t));
   const Hit hit = embree.intersect(Ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 10.0f});
   EXPECT_EQ(hit.prim_id, 4u);
+}
+
+TEST(EmbreeAccelerator, ContextQueriesGoThroughItsFilterAndAgreeWithBruteForce) {
+  // Every control at once on rays whose closest hit brute force knows: each ray skips its own closest primitive (so
+  // the skip changes answers), a third of the primitives is switched off, and a filter rejects every fifth.
+  const Scene scene = random_triangles(2000);
+  BruteForce oracle;
+  oracle.build(scene);
+  const auto rays = random_rays(3000);
+  std::vector<Hit> plain(rays.size());
+  oracle.intersect(rays, plain);
+  std::vector<std::uint32_t> skip(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) skip[i] = plain[i].prim_id;  // a miss skips nothing
+  std::vector<std::uint8_t> enabled(scene.primitive_count());
+  for (std::size_t p = 0; p < enabled.size(); ++p) enabled[p] = p % 3 != 1;
+  auto reject_every_fifth = [](const HitCandidate& c) { return c.prim_id % 5 != 0; };
+  QueryContext context;
+  context.skip_primitive = skip;
+  context.primitive_enabled = enabled;
+  context.set_filter(reject_every_fifth);
+
+  EmbreeAccelerator embree(EmbreeOptions{2, EmbreeBuildQuality::medium, false, true});
+  embree.build(scene);
+  std::vector<Hit> got(rays.size()), want(rays.size());
+  std::vector<std::uint8_t> got_occ(rays.size()), want_occ(rays.size());
+  embree.intersect(context, rays, got);
+  oracle.intersect(context, rays, want);
+  embree.occluded(context, rays, got_occ);
+  oracle.occluded(context, rays, want_occ);
+  std::size_t disagreements = 0, changed = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    disagreements += agrees(got[i], want[i]) && got_occ[i] == want_occ[i] ? 0 : 1;
+    changed += want[i].prim_id != plain[i].prim_id ? 1 : 0;
+    if (i % 100 == 0) {
+      EXPECT_TRUE(agrees(embree.intersect(context, rays[i], i), want[i])) << "ray " << i;
+      EXPECT_EQ(embree.occluded(context, rays[i], i), want_occ[i] != 0) << "ray " << i;
+    }
+  }
+  EXPECT_GT(changed, rays.size() / 4) << "the context should change many answers";
+  EXPECT_EQ(disagreements, 0u);
+
+  // Without the scene flag Embree would never call the filter: the context queries refuse instead of ignoring it.
+  EmbreeAccelerator unflagged;
+  unflagged.build(scene);
+  EXPECT_THROW((void)unflagged.intersect(context, rays[0], 0), Error);
+  EXPECT_THROW(unflagged.occluded(context, rays, got_occ), Error);
 }
 
 TEST(EmbreeAccelerator, RegisteredAsAComparisonEntryWithItsSpecs) {

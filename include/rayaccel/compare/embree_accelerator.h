@@ -36,6 +36,9 @@ struct EmbreeOptions {
   int threads = 0;                                          ///< Embree worker threads; 0 = Embree's default
   EmbreeBuildQuality quality = EmbreeBuildQuality::medium;  ///< RTC_BUILD_QUALITY_*; medium is Embree's default
   bool robust = false;  ///< RTC_SCENE_FLAG_ROBUST: Embree's watertight mode, the closest to rayaccel's guarantees
+  /// RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION: the queries with a QueryContext run through an intersection filter on
+  /// the context (without it they throw Error, so the plain queries are timed with Embree's default flags).
+  bool context_filter = false;
 };
 
 /// Embree over a triangle scene. Hits follow this library's rules: t_min < t <= t_max, a miss is {t = +inf,
@@ -65,6 +68,15 @@ class EmbreeAccelerator final : public Accelerator {
   void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<TraversalStats> stats = {}) const override;
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                 std::span<TraversalStats> stats = {}) const override;
+  /// Queries with a QueryContext, with options.context_filter only (else Error): Embree's context filter rejects a
+  /// candidate hit the context rules out (skip, masks, primitive switches: the rules of ContextStats, which rayaccel's
+  /// leaves apply before their exact test) or its filter rejects, and Embree's traversal goes on, as in Embree's own
+  /// next-hit and alpha-test examples.
+  Hit intersect(const QueryContext& context, const Ray& ray, std::size_t ray_index = 0) const override;
+  bool occluded(const QueryContext& context, const Ray& ray, std::size_t ray_index = 0) const override;
+  void intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const override;
+  void occluded(const QueryContext& context, std::span<const Ray> rays,
+                std::span<std::uint8_t> occluded) const override;
   /// Embree's 8-wide packets: each run rays[8k .. 8k + 8) goes through one rtcIntersect8 call (the intersect
   /// context flagged coherent), in the batch loop and floating-point mode of intersect(rays, hits), with its hit
   /// rules. Void rays and rays with an empty interval are inactive lanes and miss; a final partial packet has its
@@ -84,6 +96,7 @@ class EmbreeAccelerator final : public Accelerator {
  private:
   struct State;
   std::unique_ptr<State> state_;
+
 };
 
 }  // namespace rayaccel
