@@ -31,6 +31,7 @@ def run(bench_dir, kernel_json, build):
         subprocess.run([str(build / "bin" / "rayaccel"), "bench", spec, "--accel", accel, "--rays", "primary,diffuse",
                         "--res", "256", "--threads", "1", "--repeat", "3", "--json", str(bench_dir / f"{name}.json")],
                        check=True)
+    subprocess.run(["cmake", "--build", str(build), "--target", "rayaccel_kernel_bench"], check=True)
     with open(kernel_json, "w") as out:
         subprocess.run([str(build / "bin" / "rayaccel_kernel_bench"), "--benchmark_filter=ray_test/",
                         "--benchmark_repetitions=5", "--benchmark_format=json"], check=True, stdout=out)

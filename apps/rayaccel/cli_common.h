@@ -31,6 +31,8 @@ class UsageError : public Error {
 
 inline constexpr int kExitRuntime = 1;
 inline constexpr int kExitUsage = 2;
+/// `trace` builds its structure this many times (float and double scenes alike) and reports the median.
+inline constexpr int kTraceBuilds = 3;
 
 /// "x,y,z" with three finite numbers; throws UsageError naming `what` and the text otherwise.
 Vec3 parse_vec3(std::string_view text, std::string_view what);

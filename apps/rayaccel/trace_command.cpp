@@ -78,8 +78,6 @@ int run_trace_instanced_hook(const TraceArgs& args, bool threads_given) {
                              threads_given);
 }
 
-constexpr int kBuilds = 3;
-
 int run_trace(const TraceArgs& args, bool threads_given) {
   if (args.instances && args.precision == "double") {
     throw UsageError("--instances traces in float; it cannot be combined with --precision double");
@@ -132,7 +130,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
     accel = load_accelerator(args.load, scene);
     load_ms = clock.milliseconds();
   } else {
-    for (int i = 0; i < kBuilds; ++i) {
+    for (int i = 0; i < kTraceBuilds; ++i) {
       accel = make_structure(spec, ThreadLimit::active());
       const Stopwatch clock;
       accel->build(scene);

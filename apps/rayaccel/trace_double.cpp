@@ -24,8 +24,6 @@ namespace rayaccel::cli {
 
 namespace {
 
-constexpr int kBuilds = 3;
-
 /// Throws UsageError unless `spec` names a structure with a double version and valid options.
 void check_double_spec(const std::string& spec) {
   std::string name;
@@ -62,7 +60,7 @@ int run_trace_double(const TraceDoubleArgs& args) {
 
   std::vector<double> build_ms;
   std::unique_ptr<DoubleAccelerator> accel;
-  for (int i = 0; i < kBuilds; ++i) {
+  for (int i = 0; i < kTraceBuilds; ++i) {
     accel = make_double_accelerator(spec);
     const Stopwatch clock;
     accel->build(scene);

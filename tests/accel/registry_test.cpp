@@ -21,7 +21,7 @@ using testing::contains;
 using testing::error_message;
 
 /// A registry entry with one option of each type, for option validation.
-AcceleratorInfo fake_info() {
+AcceleratorInfo fake_entry() {
   AcceleratorInfo info;
   info.name = "fake";
   info.description = "test entry";
@@ -52,13 +52,13 @@ TEST(RegistrySpec, MalformedSpecsAreErrors) {
 }
 
 TEST(RegistryOptions, DefaultsFillEveryKey) {
-  const OptionValues o = resolve_options(fake_info(), {});
+  const OptionValues o = resolve_options(fake_entry(), {});
   EXPECT_EQ(o.get("bv"), "aabb");
   EXPECT_EQ(o.get_int("leaf_size"), 4);
   EXPECT_DOUBLE_EQ(o.get_real("ratio"), 0.5);
   EXPECT_FALSE(o.get_bool("fast"));
   EXPECT_THROW(o.get("missing"), Error);
-  const OptionValues given = resolve_options(fake_info(), {{"bv", "obb"}, {"leaf_size", "-3"}, {"ratio", "2e-3"}, {"fast", "on"}});
+  const OptionValues given = resolve_options(fake_entry(), {{"bv", "obb"}, {"leaf_size", "-3"}, {"ratio", "2e-3"}, {"fast", "on"}});
   EXPECT_EQ(given.get("bv"), "obb");
   EXPECT_EQ(given.get_int("leaf_size"), -3);
   EXPECT_DOUBLE_EQ(given.get_real("ratio"), 2e-3);
@@ -66,7 +66,7 @@ TEST(RegistryOptions, DefaultsFillEveryKey) {
 }
 
 TEST(RegistryOptions, UnknownKeyListsKnownKeys) {
-  const std::string message = error_message([] { resolve_options(fake_info(), {{"leafsize", "4"}}); });
+  const std::string message = error_message([] { resolve_options(fake_entry(), {{"leafsize", "4"}}); });
   EXPECT_TRUE(contains(message, "'leafsize'")) << message;
   for (const char* key : {"bv", "leaf_size", "ratio", "fast"}) EXPECT_TRUE(contains(message, key)) << message;
   const std::string none = error_message([] { make_accelerator("brute_force:depth=3"); });
@@ -84,7 +84,7 @@ TEST(RegistryOptions, BadValuesNameTheValueAndTheExpectedType) {
                         Case{"leaf_size", "4.5", "integer"}, Case{"leaf_size", "", "integer"},
                         Case{"ratio", "nan", "number"}, Case{"ratio", "inf", "number"}, Case{"ratio", "1.5x", "number"},
                         Case{"fast", "maybe", "true or false"}}) {
-    const std::string message = error_message([&] { resolve_options(fake_info(), {{c.key, c.value}}); });
+    const std::string message = error_message([&] { resolve_options(fake_entry(), {{c.key, c.value}}); });
     EXPECT_TRUE(contains(message, std::string("'") + c.value + "'")) << message;
     EXPECT_TRUE(contains(message, c.key)) << message;
     EXPECT_TRUE(contains(message, c.expected)) << message;

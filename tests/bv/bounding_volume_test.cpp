@@ -14,6 +14,7 @@
 #include "rayaccel/bv/sphere_volume.h"
 #include "rayaccel/bv/tightness.h"
 #include "rayaccel/geometry/ray_triangle.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
@@ -24,7 +25,7 @@ using Volumes = ::testing::Types<AabbVolume, SphereVolume, ObbVolume, Kdop14Volu
                                  HullVolume, CapsuleVolume>;
 TYPED_TEST_SUITE(BvVolume, Volumes);
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using test_values::kInf;
 
 /// A triangle whose smallest angle's sine is below 1e-3.
 bool is_sliver(const Vec3& a, const Vec3& b, const Vec3& c) {

@@ -12,11 +12,12 @@
 #include "rayaccel/bv/hull_volume.h"
 #include "rayaccel/bv/kdop_volume.h"
 #include "rayaccel/bv/tightness.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using test_values::kInf;
 
 std::vector<Vec3> rotated_cube(float side) {
   std::vector<Vec3> pts;

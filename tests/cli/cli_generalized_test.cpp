@@ -19,11 +19,11 @@ namespace {
 using testing::fresh_directory;
 using testing::run_cli;
 
-const std::vector<std::string> kScene = {"builtin:sierpinski", "--res", "48x40"};
+const std::vector<std::string> kSierpinskiArgs = {"builtin:sierpinski", "--res", "48x40"};
 
 std::vector<std::string> render_args(std::vector<std::string> extra) {
   std::vector<std::string> args = {"render"};
-  args.insert(args.end(), kScene.begin(), kScene.end());
+  args.insert(args.end(), kSierpinskiArgs.begin(), kSierpinskiArgs.end());
   args.insert(args.end(), extra.begin(), extra.end());
   return args;
 }

@@ -22,7 +22,7 @@ using testing::fresh_directory;
 using testing::run_cli_bounded;
 using testing::some_rays;
 
-constexpr const char* kScene = "builtin:sphere:level=1";
+using testing::kSphereScene;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -166,12 +166,12 @@ TEST(CliHostileFiles, PlocBuildsFiftyThousandCoincidentTriangles) {
 TEST(CliHostileFiles, ReferenceOfAnotherSizeFailsBeforeAnyOutput) {
   const auto dir = fresh_directory("reference");
   const auto reference = dir / "ref4x4.png";
-  ASSERT_EQ(run_cli_bounded({"render", kScene, "--res", "4x4", "--out", reference.string()}).exit_code, 0);
+  ASSERT_EQ(run_cli_bounded({"render", kSphereScene, "--res", "4x4", "--out", reference.string()}).exit_code, 0);
   const auto old = dir / "old.png";
-  for (const std::vector<std::string> mode : {std::vector<std::string>{"--mode", "whitted"},
+  for (const std::vector<std::string>& mode : {std::vector<std::string>{"--mode", "whitted"},
                                               std::vector<std::string>{"--cones", "shadows", "--accel", "bvh"}}) {
     std::ofstream(old) << "old";
-    std::vector<std::string> args = {"render", kScene, "--res", "8x8", "--reference", reference.string(), "--out",
+    std::vector<std::string> args = {"render", kSphereScene, "--res", "8x8", "--reference", reference.string(), "--out",
                                      old.string()};
     args.insert(args.end(), mode.begin(), mode.end());
     const auto result = run_cli_bounded(args);
@@ -187,8 +187,8 @@ TEST(CliHostileFiles, RunsCommitTheirOutputsAllOrNone) {
   const auto png = dir / "a.png";
   for (const char* option : {"--json", "--spp-map"}) {  // the second output fails: the first must stay as it was
     std::ofstream(png) << "old";
-    const auto result = run_cli_bounded({"render", kScene, "--mode", "whitted", "--res", "8x8", "--out", png.string(),
-                                         option, "/dev/full"});
+    const auto result = run_cli_bounded(
+        {"render", kSphereScene, "--mode", "whitted", "--res", "8x8", "--out", png.string(), option, "/dev/full"});
     EXPECT_EQ(result.exit_code, 1) << option << ": " << result.err;
     EXPECT_TRUE(contains(result.err, "No space left on device")) << option << ": " << result.err;
     EXPECT_EQ(testing::read_file(png), "old") << option << ": --out was replaced before the run failed";
@@ -196,12 +196,12 @@ TEST(CliHostileFiles, RunsCommitTheirOutputsAllOrNone) {
   const auto saved = dir / "s.bvh";
   std::ofstream(saved) << "old";
   const auto rays = some_rays(dir);
-  const auto trace = run_cli_bounded({"trace", kScene, rays.string(), "--accel", "bvh", "--repeat", "1", "--save",
+  const auto trace = run_cli_bounded({"trace", kSphereScene, rays.string(), "--accel", "bvh", "--repeat", "1", "--save",
                                       saved.string(), "--out", "/dev/full"});
   EXPECT_EQ(trace.exit_code, 1) << trace.err;
   EXPECT_EQ(testing::read_file(saved), "old") << "--save was replaced before the run failed";
   // No temporaries are left behind, and a run that succeeds writes every output.
-  const auto ok = run_cli_bounded({"trace", kScene, rays.string(), "--accel", "bvh", "--repeat", "1", "--save",
+  const auto ok = run_cli_bounded({"trace", kSphereScene, rays.string(), "--accel", "bvh", "--repeat", "1", "--save",
                                    saved.string(), "--out", (dir / "x.hits").string()});
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_NE(testing::read_file(saved), "old");

@@ -19,13 +19,13 @@ using testing::CommandResult;
 using testing::fresh_directory;
 using testing::some_rays;
 
-constexpr const char* kScene = "builtin:sphere:level=1";
+using testing::kSphereScene;
 
 CommandResult run_bounded(std::vector<std::string> args) { return testing::run_cli_bounded(std::move(args)); }
 
 TEST(CliHostile, DeviceAsRayFileIsRefusedNotReadForever) {
   if (!std::filesystem::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
-  const auto result = run_bounded({"trace", kScene, "/dev/zero", "--repeat", "1"});
+  const auto result = run_bounded({"trace", kSphereScene, "/dev/zero", "--repeat", "1"});
   EXPECT_EQ(result.exit_code, 1) << result.err;
   EXPECT_NE(result.err.find("/dev/zero"), std::string::npos) << result.err;
   EXPECT_NE(result.err.find("not a regular file"), std::string::npos) << result.err;
@@ -45,26 +45,27 @@ TEST(CliHostile, OutputPathsAreCheckedBeforeAnyWork) {
   const auto dir = fresh_directory("paths");
   const auto missing = dir / "no_such_dir";
   const auto rays = some_rays(dir);
-  const auto trace = run_bounded({"trace", kScene, rays.string(), "--repeat", "1", "--out", (missing / "x.hits").string()});
+  const auto trace =
+      run_bounded({"trace", kSphereScene, rays.string(), "--repeat", "1", "--out", (missing / "x.hits").string()});
   EXPECT_EQ(trace.exit_code, 1) << trace.err;
   EXPECT_NE(trace.err.find("does not exist"), std::string::npos) << trace.err;
   EXPECT_EQ(trace.out.find("build_ms"), std::string::npos) << "no work before the check: " << trace.out;
-  const auto render = run_bounded({"render", kScene, "--res", "8x8", "--out", (missing / "x.png").string()});
+  const auto render = run_bounded({"render", kSphereScene, "--res", "8x8", "--out", (missing / "x.png").string()});
   EXPECT_EQ(render.exit_code, 1) << render.err;
   EXPECT_NE(render.err.find("x.png"), std::string::npos) << render.err;
-  const auto bench = run_bounded({"bench", kScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--json",
+  const auto bench = run_bounded({"bench", kSphereScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--json",
                                   (missing / "x.json").string()});
   EXPECT_EQ(bench.exit_code, 1) << bench.err;
   EXPECT_NE(bench.err.find("x.json"), std::string::npos) << bench.err;
   EXPECT_EQ(bench.out.find("bvh "), std::string::npos) << "no table before the check: " << bench.out;
   for (const char* option : {"--json", "--spp-map"}) {  // whitted's extra outputs, checked before rendering
-    const auto whitted = run_bounded({"render", kScene, "--mode", "whitted", "--res", "8x8", "--out",
+    const auto whitted = run_bounded({"render", kSphereScene, "--mode", "whitted", "--res", "8x8", "--out",
                                       (dir / "w.png").string(), option, (missing / "x.out").string()});
     EXPECT_EQ(whitted.exit_code, 1) << option << ": " << whitted.err;
     EXPECT_NE(whitted.err.find("x.out"), std::string::npos) << whitted.err;
     EXPECT_EQ(whitted.out.find("wrote"), std::string::npos) << "no render before the check: " << whitted.out;
   }
-  const auto images = run_bounded({"bench", kScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--images",
+  const auto images = run_bounded({"bench", kSphereScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--images",
                                    rays.string()});
   EXPECT_EQ(images.exit_code, 1) << images.err;
   EXPECT_NE(images.err.find("not a directory"), std::string::npos) << images.err;
@@ -75,14 +76,15 @@ TEST(CliHostile, FullDeviceIsAFailureNotWrote) {
   if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   const auto dir = fresh_directory("full");
   const auto rays = some_rays(dir);
-  const auto render = run_bounded({"render", kScene, "--res", "8x8", "--out", "/dev/full"});
+  const auto render = run_bounded({"render", kSphereScene, "--res", "8x8", "--out", "/dev/full"});
   EXPECT_EQ(render.exit_code, 1) << render.err;
   EXPECT_EQ(render.out.find("wrote"), std::string::npos) << render.out;
   EXPECT_NE(render.err.find("No space left on device"), std::string::npos) << render.err;
-  const auto trace = run_bounded({"trace", kScene, rays.string(), "--repeat", "1", "--out", "/dev/full"});
+  const auto trace = run_bounded({"trace", kSphereScene, rays.string(), "--repeat", "1", "--out", "/dev/full"});
   EXPECT_EQ(trace.exit_code, 1) << trace.err;
   EXPECT_NE(trace.err.find("No space left on device"), std::string::npos) << trace.err;
-  const auto bench = run_bounded({"bench", kScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--json", "/dev/full"});
+  const auto bench =
+      run_bounded({"bench", kSphereScene, "--accel", "bvh", "--res", "8", "--repeat", "1", "--json", "/dev/full"});
   EXPECT_EQ(bench.exit_code, 1) << bench.err;
   EXPECT_NE(bench.err.find("No space left on device"), std::string::npos) << bench.err;
 }

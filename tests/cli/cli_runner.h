@@ -8,6 +8,9 @@
 
 namespace rayaccel::testing {
 
+/// A scene that builds in milliseconds, for the tests of what the CLI does around the tracing.
+inline constexpr const char* kSphereScene = "builtin:sphere:level=1";
+
 struct CommandResult {
   int exit_code = -1;  ///< the program's exit status; -1 when it did not exit normally (crash)
   std::string out;

@@ -9,13 +9,14 @@
 
 #include "oracle.h"
 #include "test_scenes.h"
+#include "../float_specials.h"
 
 namespace rayaccel::conformance {
 namespace {
 
 class Adversarial : public ConformanceTest {};
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kNaN;
 
 /// Degenerate rays about the scene, checked against brute force; bad (void) rays must miss on both sides.
 void expect_degenerate_rays_match(const Accelerator& accel, const Scene& scene, const std::string& label) {

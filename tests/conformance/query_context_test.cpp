@@ -15,11 +15,12 @@
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/query_context.h"
 #include "test_scenes.h"
+#include "../float_specials.h"
 
 namespace rayaccel::conformance {
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kNaN;
 constexpr std::size_t kRays = 400;
 constexpr std::uint32_t kGeometrySize = 5;  // primitives per geometry in the mask tests
 

@@ -12,13 +12,14 @@
 
 #include "rayaccel/geometry/ray_sphere.h"
 #include "rayaccel/render/camera.h"
+#include "../float_specials.h"
 
 namespace rayaccel::conformance {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kInf;
+using test_values::kNaN;
 
 AABB usable_box(const AABB& box) { return box.is_empty() ? AABB(Vec3{-1.0f}, Vec3{1.0f}) : box; }
 

@@ -12,12 +12,13 @@
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kInf;
+using test_values::kNaN;
 
 TEST(PreparedRay, ValidRaysKeepTheirInterval) {
   const PreparedRay r(Ray{{1, 2, 3}, 0.5f, {0, 0, 1}, 8.0f});

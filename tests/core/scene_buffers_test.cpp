@@ -11,11 +11,12 @@
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/scene/scene.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kNaN;
 
 /// A mesh stored the way a renderer might: vertices of 5 floats (x y z + a texture coordinate), triangles of
 /// four uint16 (three indices and a material), so both strides differ from the packed ones.

@@ -9,12 +9,13 @@
 #include "rayaccel/render/shading.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/scene/scene.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kInf;
+using test_values::kNaN;
 
 /// Triangles: 0 good, 1 NaN vertex, 2 collinear, 3 good, 4 infinite vertex, 5 a point.
 TriangleMesh mixed_mesh() {

@@ -9,13 +9,14 @@
 
 #include "../conformance/test_scenes.h"
 #include "rayaccel/geometry/ray_box.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
 using conformance::Rng;
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using test_values::kInf;
 const AABB kUnitBox(Vec3{0.0f}, Vec3{1.0f});
 
 bool hits(const Ray& ray, const AABB& box, float* t_entry = nullptr) {

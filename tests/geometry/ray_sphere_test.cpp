@@ -6,11 +6,12 @@
 #include <limits>
 
 #include "rayaccel/geometry/ray_sphere.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using test_values::kInf;
 
 bool hit_sphere(const Ray& ray, const Vec3& center, float radius, Hit* out = nullptr) {
   const PreparedRay r(ray);

@@ -10,14 +10,15 @@
 
 #include "../conformance/test_scenes.h"
 #include "rayaccel/geometry/ray_triangle.h"
+#include "../float_specials.h"
 
 namespace rayaccel {
 namespace {
 
 using conformance::Rng;
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+using test_values::kInf;
+using test_values::kNaN;
 
 using Triangle = std::array<Vec3, 3>;
 
