@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "../bvh/bvh_test_scenes.h"
+#include "packet_test_rays.h"
 #include "../shared_scenes.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/core/error.h"
@@ -24,9 +25,6 @@
 
 namespace rayaccel::wide {
 namespace {
-
-/// The best instruction set (AVX-512 where the CPU has it), AVX2 alone, and four-wide nodes (one by one).
-const char* const kSpecs[] = {"bvh_wide", "bvh_wide:width=8,isa=avx2", "bvh_wide:width=4"};
 
 /// occluded_packets() against occluded() one ray at a time, ray for ray; returns how many rays are occluded.
 std::size_t expect_packets_match_occluded(const Accelerator& accel, const std::vector<Ray>& rays,
@@ -47,14 +45,6 @@ std::size_t expect_packets_match_occluded(const Accelerator& accel, const std::v
   return occluded;
 }
 
-/// Camera rays of a framing camera in 4 x 2 pixel tiles, the order packets are meant for.
-std::vector<Ray> tiled_camera_rays(const Scene& scene, int width, int height) {
-  const std::vector<Ray> rows = primary_rays(Camera::framing(scene.bounds()), width, height);
-  std::vector<Ray> tiled;
-  for (std::size_t i : packet_tile_order(width, height)) tiled.push_back(rows[i]);
-  return tiled;
-}
-
 class WideOccludedPackets : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -67,7 +57,7 @@ class WideOccludedPackets : public ::testing::Test {
   }
   void SetUp() override {
     RAYACCEL_NEED_SHARED_FILE(testing::shared_scenes_dir() / "bunny.ply");
-    for (const char* spec : kSpecs) {
+    for (const char* spec : kPacketSpecs) {
       structures_.push_back(make_accelerator(spec));
       structures_.back()->build(*bunny_);
     }
@@ -201,7 +191,7 @@ TEST(WideOccludedPacketsGrid, RaysThroughSharedEdgesAndVerticesNeverSlipThrough)
       short_of.push_back({eye, 0.0f, target - eye, 0.999f});
     }
   }
-  for (const char* spec : kSpecs) {
+  for (const char* spec : kPacketSpecs) {
     auto accel = make_accelerator(spec);
     accel->build(scene);
     EXPECT_EQ(expect_packets_match_occluded(*accel, through, "through edges"), through.size()) << spec;
@@ -213,7 +203,7 @@ TEST(WideOccludedPacketsGrid, BatchSizesAndEmptyScenes) {
   const Scene scene = Scene::from_mesh(bvh_test::grid_mesh(4), "grid");
   const Scene empty = Scene::from_mesh({}, "empty");
   const std::vector<Ray> rays(9, Ray{{0.0f, 1.0f, 0.0f}, 0.0f, {0.0f, -1.0f, 0.0f}, 2.0f});
-  for (const char* spec : kSpecs) {
+  for (const char* spec : kPacketSpecs) {
     auto accel = make_accelerator(spec);
     accel->build(scene);
     std::vector<std::uint8_t> short_output(rays.size() - 1);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../bvh/bvh_test_scenes.h"
+#include "packet_test_rays.h"
 #include "rayaccel/accel/registry.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/workloads.h"
@@ -19,8 +20,6 @@
 
 namespace rayaccel::wide {
 namespace {
-
-const char* const kSpecs[] = {"bvh_wide", "bvh_wide:width=8,isa=avx2", "bvh_wide:width=4"};
 
 /// Packet answers against single-ray answers: the same t bit for bit, and the same primitive, u and v unless another
 /// primitive ties at exactly that t (the packet may meet the tied primitives in another order). Returns the hits.
@@ -44,19 +43,11 @@ int expect_packets_match_single_rays(const Accelerator& accel, const std::vector
   return hits;
 }
 
-/// Camera rays of a framing camera in 4 x 2 pixel tiles, the order packets are meant for.
-std::vector<Ray> tiled_camera_rays(const Scene& scene, int width, int height) {
-  const std::vector<Ray> rows = primary_rays(Camera::framing(scene.bounds()), width, height);
-  std::vector<Ray> tiled;
-  for (std::size_t i : packet_tile_order(width, height)) tiled.push_back(rows[i]);
-  return tiled;
-}
-
 TEST(WidePackets, CoherentCameraRaysMatchSingleRays) {
   for (const char* scene_name : {"default", "teapot_stadium", "soup"}) {
     const Scene scene = make_builtin_scene(scene_name);
     const std::vector<Ray> rays = tiled_camera_rays(scene, 61, 43);  // neither a multiple of 4 nor of 2
-    for (const char* spec : kSpecs) {
+    for (const char* spec : kPacketSpecs) {
       auto accel = make_accelerator(spec);
       accel->build(scene);
       const int hits = expect_packets_match_single_rays(*accel, rays, scene_name);
@@ -101,7 +92,7 @@ TEST(WidePackets, PacketsThatFallBackToSingleRays) {
   // A packet of void rays only, and a last partial packet of five.
   for (int i = 0; i < 8; ++i) rays.push_back({center, 0.0f, {0.0f, 0.0f, 0.0f}, 1.0f});
   for (int i = 0; i < 5; ++i) rays.push_back(camera[32 + i]);
-  for (const char* spec : kSpecs) {
+  for (const char* spec : kPacketSpecs) {
     auto accel = make_accelerator(spec);
     accel->build(scene);
     expect_packets_match_single_rays(*accel, rays, "fallback packets");
@@ -127,7 +118,7 @@ TEST(WidePackets, RaysThroughSharedEdgesAndVerticesNeverSlipThrough) {
       rays.push_back({eye, 0.0f, target - eye, std::numeric_limits<float>::infinity()});
     }
   }
-  for (const char* spec : kSpecs) {
+  for (const char* spec : kPacketSpecs) {
     auto accel = make_accelerator(spec);
     accel->build(scene);
     const int hits = expect_packets_match_single_rays(*accel, rays, "edges and vertices");
