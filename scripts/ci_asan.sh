@@ -11,8 +11,9 @@ scripts/clang_sanitized_tree.sh rayaccel_tests rayaccel_cli
 built=$(date +%s)
 TIER=ci_asan TESTS=build-fuzz/bin/rayaccel_tests LOGS=build-fuzz/logs
 source scripts/sanitized_runs.sh
-# The unit tier: eight shards.
-for _ in 1 2 3 4 5 6 7 8; do echo '-Conformance*:Slow*'; done | run_processes unit 8
+# The unit tier: eight shards. Without BunnyEdgeRays (63 s under ASan): its subject is exact arithmetic on the bunny's
+# edges, and the default structure's memory is checked here by the conformance tier and by the fuzzers.
+for _ in 1 2 3 4 5 6 7 8; do echo '-Conformance*:Slow*:BunnyEdgeRays.*'; done | run_processes unit 8
 # Conformance: one variant per structure (9 of the variants the normal tier runs). The BVH's other volumes and builders
 # run under the sanitizers in the unit tier above (AllBvhVariants: every volume x builder against brute force on soups,
 # closed meshes, duplicates, spheres and edge cases), and the grid with Triangle4 blocks in ci_asan_avx.sh.
