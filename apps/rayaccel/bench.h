@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -67,6 +68,12 @@ struct Workload {
   bool skips() const { return is_skip_kind(kind); }
 };
 
+/// Traces `rays` (the workload's rays, or some of them with `skip` their entries of w.skip) the way w's kind is traced,
+/// into `hits` (closest-hit kinds) or `occluded` (any-hit kinds), sized as `rays`; `packets` traces them eight at a time
+/// (the packet kinds' whole workload only). The one dispatch of the timed passes and the check.
+void trace_rays(const Accelerator& accel, const Workload& w, std::span<const Ray> rays,
+                std::span<const std::uint32_t> skip, std::span<Hit> hits, std::span<std::uint8_t> occluded,
+                bool packets);
 /// The answers of `accel` to rays `ids` of workload `w`, as its kind is traced: closest hits (`hits`) or occlusion
 /// (`occluded`), the _skip kinds under a QueryContext skipping each ray's origin primitive. Packet workloads are traced
 /// whole with intersect_packets() or occluded_packets() (a subset's rays put together would not be its packets),

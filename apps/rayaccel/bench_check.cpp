@@ -70,25 +70,15 @@ bool agrees_as_foreign(const Hit& got, const Hit& want, float relative) {
 }
 }  // namespace
 
-std::vector<Ray> trace_workload(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
-                                std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded, bool ray_by_ray) {
-  std::vector<Ray> rays(ids.size());
-  std::vector<std::uint32_t> skip(w.skips() ? ids.size() : 0);
-  for (std::size_t i = 0; i < ids.size(); ++i) rays[i] = w.rays[ids[i]];
-  for (std::size_t i = 0; i < skip.size(); ++i) skip[i] = w.skip[ids[i]];
+void trace_rays(const Accelerator& accel, const Workload& w, std::span<const Ray> rays,
+                std::span<const std::uint32_t> skip, std::span<Hit> hits, std::span<std::uint8_t> occluded,
+                bool packets) {
   QueryContext context;
   context.skip_primitive = skip;
-  hits.assign(w.any_hit() ? 0 : rays.size(), Hit{});
-  occluded.assign(w.any_hit() ? rays.size() : 0, 0);
-  const bool packets = w.packets() && !ray_by_ray;
   if (w.any_hit() && packets) {
-    std::vector<std::uint8_t> all(w.rays.size());
-    accel.occluded_packets(w.rays, all);
-    for (std::size_t i = 0; i < ids.size(); ++i) occluded[i] = all[ids[i]];
+    accel.occluded_packets(rays, occluded);
   } else if (packets) {
-    std::vector<Hit> all(w.rays.size());
-    accel.intersect_packets(w.rays, all);
-    for (std::size_t i = 0; i < ids.size(); ++i) hits[i] = all[ids[i]];
+    accel.intersect_packets(rays, hits);
   } else if (w.any_hit() && w.skips()) {
     accel.occluded(context, rays, occluded);
   } else if (w.any_hit()) {
@@ -98,6 +88,30 @@ std::vector<Ray> trace_workload(const Accelerator& accel, const Workload& w, con
   } else {
     accel.intersect(rays, hits);
   }
+}
+
+std::vector<Ray> trace_workload(const Accelerator& accel, const Workload& w, const std::vector<std::size_t>& ids,
+                                std::vector<Hit>& hits, std::vector<std::uint8_t>& occluded, bool ray_by_ray) {
+  std::vector<Ray> rays(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) rays[i] = w.rays[ids[i]];
+  hits.assign(w.any_hit() ? 0 : rays.size(), Hit{});
+  occluded.assign(w.any_hit() ? rays.size() : 0, 0);
+  if (w.packets() && !ray_by_ray) {
+    std::vector<Hit> all_hits(hits.empty() ? 0 : w.rays.size());
+    std::vector<std::uint8_t> all_occluded(occluded.empty() ? 0 : w.rays.size());
+    trace_rays(accel, w, w.rays, w.skip, all_hits, all_occluded, true);
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      if (w.any_hit()) {
+        occluded[i] = all_occluded[ids[i]];
+      } else {
+        hits[i] = all_hits[ids[i]];
+      }
+    }
+    return rays;
+  }
+  std::vector<std::uint32_t> skip(w.skips() ? ids.size() : 0);
+  for (std::size_t i = 0; i < skip.size(); ++i) skip[i] = w.skip[ids[i]];
+  trace_rays(accel, w, rays, skip, hits, occluded, false);
   return rays;
 }
 

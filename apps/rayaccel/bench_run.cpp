@@ -74,23 +74,9 @@ void time_traces(const SceneContext& ctx, const Accelerator& accel, StructureRes
     ctx.progress.step(fmt::format("tracing {} {} rays", w.rays.size(), to_string(w.kind)));
     std::vector<Hit> hits(w.any_hit() ? 0 : w.rays.size());
     std::vector<std::uint8_t> occluded(w.any_hit() ? w.rays.size() : 0);
-    QueryContext skip_origin;
-    skip_origin.skip_primitive = w.skip;
     const auto pass = [&] {
       const Stopwatch clock;
-      if (w.any_hit() && w.packets()) {
-        accel.occluded_packets(w.rays, occluded);
-      } else if (w.any_hit() && w.skips()) {
-        accel.occluded(skip_origin, w.rays, occluded);
-      } else if (w.skips()) {
-        accel.intersect(skip_origin, w.rays, hits);
-      } else if (w.any_hit()) {
-        accel.occluded(w.rays, occluded);
-      } else if (w.packets()) {
-        accel.intersect_packets(w.rays, hits);
-      } else {
-        accel.intersect(w.rays, hits);
-      }
+      trace_rays(accel, w, w.rays, w.skip, hits, occluded, w.packets());
       return clock.milliseconds();
     };
     // A warm-up pass (threads started, caches filled) is discarded unless it was slow enough to be a fair sample.

@@ -298,21 +298,33 @@ void context_filter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
-/// Runs query(built, rtc) with an Embree context whose filter applies `context`'s rules for ray `ray_index`; Error
-/// when the scene was committed without the context-filter flag (Embree would never call the filter).
-template <class Query>
-auto with_context(const Built& built, bool has_filter_flag, const QueryContext& context, std::size_t ray_index,
-                  Query&& query) {
+/// Error unless the scene was committed with the context-filter flag (Embree would never call the filter).
+void require_context_filter(bool has_filter_flag) {
   if (!has_filter_flag) {
     throw Error("embree: queries with a context (skip, masks, filters) need the scene's context filter: "
                 "embree:filter=1");
   }
+}
+
+/// Runs query(rtc) with an Embree context whose filter applies `context`'s rules for ray `ray_index`.
+template <class Query>
+auto with_context(const std::vector<std::uint32_t>& prim_ids, const QueryContext& context, std::size_t ray_index,
+                  Query&& query) {
   NoStats none;
   const ContextStats<NoStats> rules(context, ray_index, none);
-  FilteredContext filtered{{}, &rules, &built.prim_ids};
+  FilteredContext filtered{{}, &rules, &prim_ids};
   rtcInitIntersectContext(&filtered.rtc);
   filtered.rtc.filter = context_filter;
-  return query(built, filtered.rtc);
+  return query(filtered.rtc);
+}
+
+/// The batches' loop: ranges of rays over the threads, each in Embree's float mode, answer(i) for ray i.
+template <class Answer>
+void for_each_ray(std::size_t count, Answer&& answer) {
+  detail::parallel_for_rays(count, [&](std::size_t begin, std::size_t end) {
+    const EmbreeFloatMode mode;
+    for (std::size_t i = begin; i < end; ++i) answer(i);
+  });
 }
 
 }  // namespace
@@ -336,10 +348,7 @@ bool EmbreeAccelerator::occluded(const Ray& ray, TraversalStats&) const { return
 void EmbreeAccelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits,
                                   std::span<TraversalStats> stats) const {
   detail::check_batch_sizes(rays.size(), hits.size(), stats.size());
-  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
-    const EmbreeFloatMode mode;
-    for (std::size_t i = begin; i < end; ++i) hits[i] = intersect(rays[i]);
-  });
+  for_each_ray(rays.size(), [&](std::size_t i) { hits[i] = intersect(rays[i]); });
 }
 
 void EmbreeAccelerator::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
@@ -378,34 +387,33 @@ void EmbreeAccelerator::occluded_packets(std::span<const Ray> rays, std::span<st
 void EmbreeAccelerator::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded_out,
                                  std::span<TraversalStats> stats) const {
   detail::check_batch_sizes(rays.size(), occluded_out.size(), stats.size());
-  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
-    const EmbreeFloatMode mode;
-    for (std::size_t i = begin; i < end; ++i) occluded_out[i] = occluded(rays[i]) ? 1 : 0;
-  });
+  for_each_ray(rays.size(), [&](std::size_t i) { occluded_out[i] = occluded(rays[i]) ? 1 : 0; });
 }
 
 Hit EmbreeAccelerator::intersect(const QueryContext& context, const Ray& ray, std::size_t ray_index) const {
   detail::check_context_index(context, ray_index);
-  return with_context({state_->scene, state_->prim_ids}, state_->options.context_filter, context, ray_index,
-                      [&](const Built& b, RTCIntersectContext& c) { return intersect_in(b, c, ray); });
+  require_context_filter(state_->options.context_filter);
+  const Built built{state_->scene, state_->prim_ids};
+  return with_context(built.prim_ids, context, ray_index,
+                      [&](RTCIntersectContext& c) { return intersect_in(built, c, ray); });
 }
 
 bool EmbreeAccelerator::occluded(const QueryContext& context, const Ray& ray, std::size_t ray_index) const {
   detail::check_context_index(context, ray_index);
-  return with_context({state_->scene, state_->prim_ids}, state_->options.context_filter, context, ray_index,
-                      [&](const Built& b, RTCIntersectContext& c) { return occluded_in(b, c, ray); });
+  require_context_filter(state_->options.context_filter);
+  const Built built{state_->scene, state_->prim_ids};
+  return with_context(built.prim_ids, context, ray_index,
+                      [&](RTCIntersectContext& c) { return occluded_in(built, c, ray); });
 }
 
 void EmbreeAccelerator::intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const {
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
   detail::check_context_sizes(context, rays.size());
+  require_context_filter(state_->options.context_filter);
   const Built built{state_->scene, state_->prim_ids};
-  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
-    const EmbreeFloatMode mode;
-    for (std::size_t i = begin; i < end; ++i) {
-      hits[i] = with_context(built, state_->options.context_filter, context, i,
-                             [&](const Built& b, RTCIntersectContext& c) { return intersect_in(b, c, rays[i]); });
-    }
+  for_each_ray(rays.size(), [&](std::size_t i) {
+    hits[i] = with_context(built.prim_ids, context, i,
+                           [&](RTCIntersectContext& c) { return intersect_in(built, c, rays[i]); });
   });
 }
 
@@ -413,15 +421,13 @@ void EmbreeAccelerator::occluded(const QueryContext& context, std::span<const Ra
                                  std::span<std::uint8_t> occluded_out) const {
   detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
   detail::check_context_sizes(context, rays.size());
+  require_context_filter(state_->options.context_filter);
   const Built built{state_->scene, state_->prim_ids};
-  detail::parallel_for_rays(rays.size(), [&](std::size_t begin, std::size_t end) {
-    const EmbreeFloatMode mode;
-    for (std::size_t i = begin; i < end; ++i) {
-      occluded_out[i] = with_context(built, state_->options.context_filter, context, i,
-                                     [&](const Built& b, RTCIntersectContext& c) { return occluded_in(b, c, rays[i]); })
-                            ? 1
-                            : 0;
-    }
+  for_each_ray(rays.size(), [&](std::size_t i) {
+    occluded_out[i] =
+        with_context(built.prim_ids, context, i, [&](RTCIntersectContext& c) { return occluded_in(built, c, rays[i]); })
+            ? 1
+            : 0;
   });
 }
 
