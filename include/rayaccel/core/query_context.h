@@ -89,6 +89,10 @@ class ContextStats {
         context_.geometry_mask.empty() || geom >= context_.geometry_mask.size() ? ~0u : context_.geometry_mask[geom];
     return (mask_ & geom_mask) != 0;
   }
+  /// True when a rule other than the skipped primitive is on (primitive switches, masks, a skipped geometry): such
+  /// rules may rule out whole blocks of a leaf, so SIMD leaves ask allows() of every lane before the test. With only
+  /// a skipped primitive (a secondary ray's origin surface) they test first and ask it of the lanes that hit.
+  bool rules_out_blocks() const { return by_geometry_ || !context_.primitive_enabled.empty(); }
   bool has_filter() const { return context_.filter != nullptr; }
   /// The filter's answer for a hit that passed allows() and the exact test.
   bool accepts(const Hit& candidate) const {

@@ -159,11 +159,24 @@ RAYACCEL_LANE_INLINE int candidate_triangle_lanes(const TrianglePacket<S>& ray, 
   return lanes.hits | lanes.on_edge;
 }
 
+/// The lanes of `candidates` (bit k: triangle k % 4 of blocks[k / 4]) that hold a triangle the context allows.
+template <class Stats>
+RAYACCEL_LANE_INLINE int allowed_lanes(const Stats& stats, const Triangle4* const* blocks, int candidates) {
+  int out = 0;
+  for (int rest = candidates; rest; rest &= rest - 1) {
+    const int lane = __builtin_ctz(static_cast<unsigned>(rest));
+    const std::uint32_t id = blocks[lane / 4]->prim_id[lane % 4];
+    if (id != kInvalidPrimId && stats.allows(id)) out |= 1 << lane;
+  }
+  return out;
+}
+
 /// Tests the S::kWidth triangles of blocks[0 .. S::kWidth / 4); updates hit with the closest one in (t_min, hit.t).
 /// Returns true on any update. Lanes the float path cannot decide go to the scalar kernel (see WatertightLanes).
-/// With a query context (Stats is a ContextStats), the lanes it rules out are found first: blocks with none left
-/// are not tested, and the others' ruled-out lanes never reach the scalar kernel or the hit; the filter sees each
-/// closer hit before it is kept.
+/// With a query context (Stats is a ContextStats) ruled-out lanes never reach the scalar kernel or the hit, and the
+/// filter sees each closer hit before it is kept. Rules that may rule out whole blocks (masks, switches) are asked of
+/// every lane first and blocks with no lane left are not tested; a skipped primitive alone is asked of the lanes the
+/// float test leaves (hits and undecided lanes: a few, where asking all eight lanes cost more than the test it saved).
 template <class S, class Stats = NoStats>
 RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray, const PreparedRay& scalar_ray,
                                                    const Triangle4* const* blocks, Hit& hit,
@@ -171,17 +184,16 @@ RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray,
   constexpr int W = S::kWidth;
   [[maybe_unused]] int allowed = (1 << W) - 1;
   if constexpr (kHasContext<Stats>) {
-    allowed = 0;
-    for (int lane = 0; lane < W; ++lane) {
-      const std::uint32_t id = blocks[lane / 4]->prim_id[lane % 4];
-      if (id != kInvalidPrimId && stats.allows(id)) allowed |= 1 << lane;
+    if (stats.rules_out_blocks()) {
+      allowed = allowed_lanes(stats, blocks, allowed);
+      if (allowed == 0) return false;
     }
-    if (allowed == 0) return false;
   }
   WatertightLanes<S> lanes;
   if (!test_triangle_lanes(ray, scalar_ray, blocks, hit.t, lanes)) return false;
   int hit_lanes = lanes.hits, edge_lanes = lanes.on_edge;
   if constexpr (kHasContext<Stats>) {
+    if (!stats.rules_out_blocks()) allowed = allowed_lanes(stats, blocks, hit_lanes | edge_lanes);
     hit_lanes &= allowed;
     edge_lanes &= allowed;
   }
