@@ -128,9 +128,9 @@ void check_scene_exists(std::string_view spec) {
   }
 }
 
-Scene load_scene_checked(std::string_view spec) {
+Scene load_scene_checked(std::string_view spec, GeometryTable* geometries) {
   check_scene_exists(spec);
-  return load_scene(spec);
+  return load_scene(spec, geometries);
 }
 
 Camera default_camera(std::string_view spec, const Scene& scene) {

@@ -16,6 +16,7 @@
 #include "rayaccel/core/dvec3.h"
 #include "rayaccel/core/error.h"
 #include "rayaccel/core/output_file.h"
+#include "rayaccel/scene/geometry_table.h"
 #include "rayaccel/scene/scene.h"
 #include "rayaccel/render/camera.h"
 #include "rayaccel/render/heatmap.h"
@@ -79,8 +80,9 @@ double median(std::vector<double> values);
 
 /// True for a "builtin:..." scene spec.
 bool is_builtin(std::string_view spec);
-/// Loads a scene spec (file path or builtin:...); a missing file is a usage error naming it.
-Scene load_scene_checked(std::string_view spec);
+/// Loads a scene spec (file path or builtin:...); a missing file is a usage error naming it. With `geometries`, the
+/// scene's meshes as load_scene() numbers them.
+Scene load_scene_checked(std::string_view spec, GeometryTable* geometries = nullptr);
 /// True for a "builtin:..." scene spec.
 bool is_builtin(std::string_view spec);
 /// Throws UsageError naming a scene file that does not exist or is not a regular file (builtin specs pass).

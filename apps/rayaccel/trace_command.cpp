@@ -44,8 +44,39 @@ struct TraceArgs {
   std::string top;                      ///< --top, with --instances only
   std::string skip;                     ///< --skip: .ids file, a primitive per ray to ignore
   std::string mask;                     ///< --mask: .ids file, a ray mask per ray
-  std::uint32_t geometry_mask = ~0u;    ///< --geometry-mask: the scene's (one geometry's) mask
+  std::string geometry_mask;            ///< --geometry-mask: M or M,M,...: every geometry's mask, or one each
+  std::string skip_geometry;            ///< --skip-geometry: .ids file, a geometry per ray to ignore
+  std::string geometry_ids;             ///< --geometry-ids: .ids file, each hit's geometry (companion of --out)
 };
+
+/// The masks of --geometry-mask, one per geometry of the scene: "M" gives every geometry M, "M0,M1,..." one each
+/// (decimal or 0x hex, uint32). UsageError naming the value, or both counts, otherwise.
+std::vector<std::uint32_t> parse_geometry_masks(const std::string& text, std::uint32_t geometries) {
+  std::vector<std::uint32_t> masks;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    std::size_t used = 0;
+    unsigned long long value = 0;
+    try {
+      value = item.empty() || item[0] == '-' ? ~0ull : std::stoull(item, &used, 0);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || value > 0xFFFFFFFFull) {
+      throw UsageError("--geometry-mask: '" + item + "' is not a uint32 (decimal or 0x hex)");
+    }
+    masks.push_back(static_cast<std::uint32_t>(value));
+    start = comma + 1;
+  }
+  if (masks.size() == 1) return std::vector<std::uint32_t>(geometries, masks[0]);
+  if (masks.size() != geometries) {
+    throw UsageError("--geometry-mask: " + std::to_string(masks.size()) + " masks for a scene of " +
+                     std::to_string(geometries) + " geometries (give one mask for all, or one per geometry)");
+  }
+  return masks;
+}
 
 /// Reads a companion .ids file of --skip or --mask (one uint32 per ray); Error naming the file and both counts when
 /// it does not match the rays.
@@ -82,9 +113,15 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (args.instances && args.precision == "double") {
     throw UsageError("--instances traces in float; it cannot be combined with --precision double");
   }
-  const bool with_context = !args.skip.empty() || !args.mask.empty() || args.geometry_mask != ~0u;
-  if (with_context && (args.instances || args.precision == "double" || args.packets)) {
-    throw UsageError("--skip, --mask and --geometry-mask work without --instances, --precision double and --packets");
+  const bool with_context =
+      !args.skip.empty() || !args.mask.empty() || !args.geometry_mask.empty() || !args.skip_geometry.empty();
+  if ((with_context || !args.geometry_ids.empty()) &&
+      (args.instances || args.precision == "double" || args.packets)) {
+    throw UsageError("--skip, --skip-geometry, --mask, --geometry-mask and --geometry-ids work without --instances, "
+                     "--precision double and --packets");
+  }
+  if (!args.geometry_ids.empty() && (args.occlusion || args.out.empty())) {
+    throw UsageError("--geometry-ids writes the companion of the --out .hits file: it needs --out, not --occlusion");
   }
   if (args.instances) return run_trace_instanced_hook(args, threads_given);
   if (!args.geometries.empty()) throw UsageError("--geometry needs --instances");
@@ -102,6 +139,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   const std::string spec = args.accel.empty() ? default_accelerator_spec() : args.accel;
   check_accelerator_spec(spec);
   if (!args.out.empty()) check_output_path(args.out, args.occlusion ? "occlusion file" : "hit file");
+  if (!args.geometry_ids.empty()) check_output_path(args.geometry_ids, "geometry id file");
   if (!args.save.empty()) {
     if (args.load.empty() && !make_accelerator(spec)->supports_save()) {
       throw UsageError("--save: '" + spec + "' cannot be saved (saved structures: bvh, every volume, and bvh_wide)");
@@ -110,17 +148,23 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   }
   const ThreadLimit limit(threads_given ? args.threads : 0);
 
-  const Scene scene = load_scene_checked(args.scene);
+  GeometryTable geometries;  // the scene file's meshes, in import_mesh()'s order
+  const Scene scene = load_scene_checked(args.scene, &geometries);
   const std::vector<Ray> rays = read_rays(args.rays);
-  // The query context of --skip, --mask and --geometry-mask (off when none is given).
-  std::vector<std::uint32_t> skip, mask;
+  // The query context of --skip, --skip-geometry, --mask and --geometry-mask (off when none is given).
+  std::vector<std::uint32_t> skip, skip_geometry, mask, geometry_masks;
   if (!args.skip.empty()) skip = read_companion(args.skip, rays.size(), "--skip");
+  if (!args.skip_geometry.empty()) skip_geometry = read_companion(args.skip_geometry, rays.size(), "--skip-geometry");
   if (!args.mask.empty()) mask = read_companion(args.mask, rays.size(), "--mask");
-  const std::uint32_t geometry_masks[1] = {args.geometry_mask};
+  if (!args.geometry_mask.empty()) {
+    geometry_masks = parse_geometry_masks(args.geometry_mask, geometries.geometry_count());
+  }
   QueryContext context;
   context.skip_primitive = skip;
+  context.skip_geometry = skip_geometry;
   context.ray_mask = mask;
-  if (with_context) context.geometry_mask = geometry_masks;
+  context.geometry_mask = geometry_masks;
+  context.geometry_starts = geometries.starts();
 
   std::vector<double> build_ms;
   double load_ms = 0.0;
@@ -140,6 +184,8 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   // --save and --out are written, then committed together: a failure of either leaves both as they were.
   OutputBatch outputs;
   if (!args.save.empty()) accel->save(outputs.stage(args.save));
+  const std::string geometry_ids_path =
+      args.geometry_ids.empty() ? std::string() : outputs.stage(args.geometry_ids).string();
 
   const TracePasses passes = run_trace_passes<Hit>(
       rays.size(), args.occlusion, args.repeat, args.out.empty() ? std::string() : outputs.stage(args.out).string(),
@@ -161,7 +207,13 @@ int run_trace(const TraceArgs& args, bool threads_given) {
           accel->occluded(rays, occluded);
         }
       },
-      [](const std::string& path, std::span<const Hit> hits) { write_hits(path, hits); });
+      [&](const std::string& path, std::span<const Hit> hits) {
+        write_hits(path, hits);
+        if (geometry_ids_path.empty()) return;
+        std::vector<std::uint32_t> ids(hits.size());
+        geometries.geometry_ids(hits, ids);
+        write_ids(geometry_ids_path, ids);
+      });
 
   nlohmann::json summary = trace_summary({
       .accel = accel->spec(),
@@ -188,6 +240,9 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (!args.out.empty()) summary["out"] = args.out;
   if (!args.skip.empty()) summary["skip"] = args.skip;
   if (!args.mask.empty()) summary["mask"] = args.mask;
+  if (!args.skip_geometry.empty()) summary["skip_geometry"] = args.skip_geometry;
+  if (!args.geometry_ids.empty()) summary["geometry_ids"] = args.geometry_ids;
+  summary["geometries"] = geometries.geometry_count();
   fmt::print("{}\n", summary.dump());
   return 0;
 }
@@ -235,7 +290,14 @@ Command add_trace_command(CLI::App& root) {
                   "it leaves; tested before the exact triangle test");
   app->add_option("--mask", args->mask,
                   "A .ids file of ray masks (uint32 per ray): a ray sees the scene when mask & --geometry-mask != 0");
-  app->add_option("--geometry-mask", args->geometry_mask, "The scene's mask for --mask (default all ones)");
+  app->add_option("--geometry-mask", args->geometry_mask,
+                  "M (every geometry's mask) or M0,M1,... (one per mesh of the scene file, numbered as --geometry-ids "
+                  "numbers them): a ray sees geometry g when its --mask & M_g != 0; a mask of 0 hides a mesh");
+  app->add_option("--skip-geometry", args->skip_geometry,
+                  "A .ids file (uint32 per ray, 0xFFFFFFFF: none): the geometry (mesh) each ray ignores");
+  app->add_option("--geometry-ids", args->geometry_ids,
+                  "With --out: write the geometry id of each hit (uint32 per ray, 0xFFFFFFFF for a miss), the mesh of "
+                  "a scene file of several meshes in the file's scene-graph order (a PLY file or builtin: 0)");
   app->add_option("--top", args->top,
                   "With --instances: the top level, bvh_top (the BVH over instance boxes, the default) or any "
                   "structure spec, built over one user primitive per instance");

@@ -72,15 +72,29 @@ void append_assimp_mesh(TriangleMesh& out, const aiScene& scene, unsigned mesh_i
   }
 }
 
+/// append_assimp_mesh(), and with `geometries` one geometry for the triangles it appended (none for a mesh without).
+void append_geometry(TriangleMesh& out, GeometryTable* geometries, const aiScene& scene, unsigned mesh_index,
+                     const aiMatrix4x4& transform, const std::filesystem::path& path) {
+  const std::size_t before = out.triangles.size();
+  append_assimp_mesh(out, scene, mesh_index, transform, path);
+  const std::size_t added = out.triangles.size() - before;
+  if (geometries && added > 0) {
+    if (added >= kInvalidPrimId) throw Error("mesh file " + quoted(path) + ": too many triangles");
+    geometries->add(static_cast<std::uint32_t>(added));
+  }
+}
+
 /// Depth-first, pre-order walk of the node graph; each node's meshes in the node's order, with the accumulated
 /// node transform applied (a mesh used by several nodes is appended once per use).
-void append_node(TriangleMesh& out, const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
-                 const std::filesystem::path& path) {
+void append_node(TriangleMesh& out, GeometryTable* geometries, const aiScene& scene, const aiNode& node,
+                 const aiMatrix4x4& parent, const std::filesystem::path& path) {
   const aiMatrix4x4 transform = parent * node.mTransformation;
   for (unsigned i = 0; i < node.mNumMeshes; ++i) {
-    if (node.mMeshes[i] < scene.mNumMeshes) append_assimp_mesh(out, scene, node.mMeshes[i], transform, path);
+    if (node.mMeshes[i] < scene.mNumMeshes) append_geometry(out, geometries, scene, node.mMeshes[i], transform, path);
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) append_node(out, scene, *node.mChildren[c], transform, path);
+  for (unsigned c = 0; c < node.mNumChildren; ++c) {
+    append_node(out, geometries, scene, *node.mChildren[c], transform, path);
+  }
 }
 
 /// Reads a non-PLY file with assimp, without post-processing: steps such as Triangulate, SortByPType,
@@ -124,21 +138,23 @@ void place_node(MeshHierarchy& out, const std::vector<std::int64_t>& kept, const
 
 }  // namespace
 
-TriangleMesh import_mesh(const std::filesystem::path& path) {
+TriangleMesh import_mesh(const std::filesystem::path& path, GeometryTable* geometries) {
+  if (geometries) *geometries = GeometryTable();
   // PLY (reads_as_ply) never reaches assimp: its PLY reader loops forever on a file that ends inside its header and
   // accepts files with fewer elements than they declare.
   if (reads_as_ply(path, check_readable(path))) {
     TriangleMesh mesh = read_ply(path);
     if (mesh.triangles.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
+    if (geometries) geometries->add(static_cast<std::uint32_t>(mesh.triangles.size()));
     return mesh;
   }
   Assimp::Importer importer;
   const aiScene& scene = read_with_assimp(importer, path);
   TriangleMesh mesh;
   if (scene.mRootNode) {
-    append_node(mesh, scene, *scene.mRootNode, aiMatrix4x4{}, path);
+    append_node(mesh, geometries, scene, *scene.mRootNode, aiMatrix4x4{}, path);
   } else {
-    for (unsigned i = 0; i < scene.mNumMeshes; ++i) append_assimp_mesh(mesh, scene, i, aiMatrix4x4{}, path);
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) append_geometry(mesh, geometries, scene, i, aiMatrix4x4{}, path);
   }
   if (mesh.triangles.empty()) throw Error("mesh file " + quoted(path) + " has no triangles");
   return mesh;

@@ -26,10 +26,14 @@ MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path) {
   return out;
 }
 
-TriangleMesh import_mesh(const std::filesystem::path& path) {
+TriangleMesh import_mesh(const std::filesystem::path& path, GeometryTable* geometries) {
   if (lowercase_extension(path) == ".ply") {
     TriangleMesh mesh = read_ply(path);
     if (mesh.triangles.empty()) throw Error("mesh file '" + path.string() + "' has no triangles");
+    if (geometries) {
+      *geometries = GeometryTable();
+      geometries->add(static_cast<std::uint32_t>(mesh.triangles.size()));
+    }
     return mesh;
   }
   refuse_without_assimp(path);

@@ -33,7 +33,7 @@ std::map<std::string, std::string> parse_params(std::string_view spec, std::stri
 
 }  // namespace
 
-Scene load_scene(std::string_view spec) {
+Scene load_scene(std::string_view spec, GeometryTable* geometries) {
   constexpr std::string_view kPrefix = "builtin:";
   if (spec.substr(0, kPrefix.size()) == kPrefix) {
     const std::string_view rest = spec.substr(kPrefix.size());
@@ -41,11 +41,16 @@ Scene load_scene(std::string_view spec) {
     const std::string_view name = rest.substr(0, colon);
     const auto params = colon == std::string_view::npos ? std::map<std::string, std::string>{}
                                                         : parse_params(spec, rest.substr(colon + 1));
-    return make_builtin_scene(name, params);
+    Scene scene = make_builtin_scene(name, params);
+    if (geometries) {
+      *geometries = GeometryTable();
+      geometries->add(static_cast<std::uint32_t>(scene.primitive_count()));
+    }
+    return scene;
   }
   if (spec.empty()) throw Error("empty scene spec: give a mesh file or builtin:NAME");
   const std::filesystem::path path(spec);
-  return Scene::from_mesh(import_mesh(path), path.stem().string());
+  return Scene::from_mesh(import_mesh(path, geometries), path.stem().string());
 }
 
 }  // namespace rayaccel

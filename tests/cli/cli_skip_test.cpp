@@ -1,8 +1,10 @@
 // End-to-end: `rayaccel trace --skip FILE` and `--mask FILE --geometry-mask M` (companion .ids files of a .rays file)
-// give in-process brute force's answers with the same query context; bad companion files fail naming the file.
+// give in-process brute force's answers with the same query context; bad companion files fail naming the file. On a
+// file of several meshes, --geometry-ids names each hit's mesh and --geometry-mask / --skip-geometry act per mesh.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -62,6 +64,84 @@ TEST(CliTraceSkip, SkipFileGivesTheNextHit) {
             0);
   const std::vector<std::uint8_t> seen = read_occlusion(occ);
   for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_EQ(seen[i], first[i].found() ? 1 : 0) << "ray " << i;
+}
+
+TEST(CliTraceSkip, GeometryIdsAndMasksOfASceneFileOfSeveralMeshes) {
+  // Two OBJ objects: a floor (two triangles at z = 0 over [0, 4]^2) and a lamp above part of it (one triangle at
+  // z = 1); rays straight down on a grid, some over the lamp.
+  const SmallCase c = make_small_case();
+  const auto obj = c.dir / "room.obj";
+  std::ofstream(obj) << "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 0.5 0.5 1\nv 3 0.5 1\nv 0.5 3 1\n"
+                        "o floor\nf 1 2 3\nf 1 3 4\no lamp\nf 5 6 7\n";
+  std::vector<Ray> rays;
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) {  // off the floor's diagonal and the lamp's edges: no ties between triangles
+      rays.push_back(Ray{Vec3{0.25f + 0.5f * i, 0.3f + 0.5f * j, 5.0f}, 0.0f, Vec3{0, 0, -1}});
+    }
+  }
+  const auto rays_file = c.dir / "down.rays";
+  write_rays(rays_file, rays);
+  GeometryTable geometries;
+  const Scene scene = load_scene(obj.string(), &geometries);
+  ASSERT_EQ(geometries.geometry_count(), 2u);
+  BruteForce oracle;
+  oracle.build(scene);
+
+  // Without a context: each hit's mesh, in a companion of the .hits file.
+  const auto hits_file = c.dir / "down.hits", ids_file = c.dir / "down.ids";
+  auto result = run_cli({"trace", obj.string(), rays_file.string(), "--repeat", "1", "--out", hits_file.string(),
+                         "--geometry-ids", ids_file.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::vector<Hit> expected(rays.size());
+  oracle.intersect(rays, expected);
+  std::vector<std::uint32_t> expected_ids(rays.size());
+  geometries.geometry_ids(expected, expected_ids);
+  EXPECT_EQ(read_ids(ids_file), expected_ids);
+  int per_geometry[2] = {0, 0};
+  for (std::uint32_t g : expected_ids) per_geometry[g] += 1;  // every ray hits: a miss would index out of range
+  EXPECT_GT(per_geometry[0], 0);
+  EXPECT_GT(per_geometry[1], 0);
+
+  // Masks per mesh: rays of mask 1 against the masks "1,2" see the floor only; skipping geometry 0 shows the lamp.
+  const auto check = [&](const std::vector<std::string>& options, const QueryContext& context) {
+    std::vector<std::string> argv = {"trace", obj.string(), rays_file.string(), "--repeat", "1", "--out",
+                                     hits_file.string(), "--geometry-ids", ids_file.string()};
+    argv.insert(argv.end(), options.begin(), options.end());
+    const auto run = run_cli(argv);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    std::vector<Hit> want(rays.size());
+    oracle.intersect(context, rays, want);
+    const std::vector<Hit> got = read_hits(hits_file);
+    ASSERT_EQ(got.size(), rays.size());
+    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(std::memcmp(&got[i], &want[i], sizeof(Hit)), 0) << i;
+    std::vector<std::uint32_t> want_ids(rays.size());
+    geometries.geometry_ids(want, want_ids);
+    EXPECT_EQ(read_ids(ids_file), want_ids);
+  };
+  write_ids(c.dir / "ones.ids", std::vector<std::uint32_t>(rays.size(), 1));
+  const std::uint32_t masks[2] = {1, 2};
+  const std::vector<std::uint32_t> ones(rays.size(), 1), zeros(rays.size(), 0);
+  QueryContext floor_only;
+  floor_only.ray_mask = ones;
+  floor_only.geometry_mask = masks;
+  floor_only.geometry_starts = geometries.starts();
+  check({"--mask", (c.dir / "ones.ids").string(), "--geometry-mask", "1,0x2"}, floor_only);
+  write_ids(c.dir / "zeros.ids", zeros);
+  QueryContext lamp_only;
+  lamp_only.skip_geometry = zeros;
+  lamp_only.geometry_starts = geometries.starts();
+  check({"--skip-geometry", (c.dir / "zeros.ids").string()}, lamp_only);
+
+  // A mask list of the wrong length, a bad mask and --geometry-ids without --out fail naming what is wrong.
+  result = run_cli({"trace", obj.string(), rays_file.string(), "--geometry-mask", "1,2,3"});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.err.find("3 masks for a scene of 2 geometries"), std::string::npos) << result.err;
+  result = run_cli({"trace", obj.string(), rays_file.string(), "--geometry-mask", "1,lamp"});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.err.find("'lamp'"), std::string::npos) << result.err;
+  result = run_cli({"trace", obj.string(), rays_file.string(), "--geometry-ids", ids_file.string()});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.err.find("needs --out"), std::string::npos) << result.err;
 }
 
 TEST(CliTraceSkip, BadCompanionFilesAreNamed) {

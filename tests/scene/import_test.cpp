@@ -106,6 +106,15 @@ TEST(ImportMesh, ObjObjectsAreConcatenatedInFileOrder) {
   EXPECT_EQ(corners(mesh, 0), (std::array<Vec3, 3>{kSquare[0], kSquare[1], kSquare[2]}));
   EXPECT_EQ(corners(mesh, 1), (std::array<Vec3, 3>{kSquare[0], kSquare[2], kSquare[3]}));
   EXPECT_EQ(corners(mesh, 2), (std::array<Vec3, 3>{kSquare[4], kSquare[0], kSquare[1]}));
+
+  // Each object is a geometry of its own, numbered in file order: the geometry ids of a plain scene.
+  GeometryTable geometries;
+  geometries.add(7);  // reset by the import
+  const Scene scene = load_scene(file.string(), &geometries);
+  ASSERT_EQ(geometries.geometry_count(), 2u);
+  EXPECT_EQ(geometries.primitive_count(0), 2u);
+  EXPECT_EQ(geometries.primitive_count(1), 1u);
+  EXPECT_EQ(geometries.primitive_count(), scene.primitive_count());
 }
 
 TEST(ImportMesh, SceneGraphIsWalkedDepthFirstWithNodeTransforms) {
@@ -128,6 +137,17 @@ TEST(ImportMesh, SceneGraphIsWalkedDepthFirstWithNodeTransforms) {
   EXPECT_EQ(corners(mesh, 0), (std::array<Vec3, 3>{Vec3{10, 0, 0}, Vec3{11, 0, 0}, Vec3{10, 1, 0}}));
   EXPECT_EQ(corners(mesh, 1), (std::array<Vec3, 3>{Vec3{0, 20, 0}, Vec3{1, 20, 0}, Vec3{0, 21, 0}}));
   EXPECT_EQ(corners(mesh, 2), (std::array<Vec3, 3>{Vec3{0, 20, 0}, Vec3{2, 20, 0}, Vec3{0, 22, 0}}));
+
+  // One geometry per placed mesh, in the order of the hierarchy's placements (mesh 0 twice, then mesh 1).
+  GeometryTable geometries;
+  ASSERT_EQ(import_mesh(file, &geometries).triangles, mesh.triangles);
+  const MeshHierarchy hierarchy = import_mesh_hierarchy(file);
+  ASSERT_EQ(geometries.geometry_count(), hierarchy.placements.size());
+  for (std::uint32_t g = 0; g < geometries.geometry_count(); ++g) {
+    EXPECT_EQ(geometries.primitive_count(g), hierarchy.meshes[hierarchy.placements[g].mesh].triangles.size());
+  }
+  // A builtin scene and a PLY file are one geometry.
+  EXPECT_EQ((load_scene("builtin:sphere", &geometries), geometries.geometry_count()), 1u);
 }
 
 TEST(ImportMesh, NanVertexIsKeptAndItsTrianglesAreInvalid) {

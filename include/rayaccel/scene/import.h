@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rayaccel/core/primitives.h"
+#include "rayaccel/scene/geometry_table.h"
 #include "rayaccel/scene/scene.h"
 
 namespace rayaccel {
@@ -24,7 +25,9 @@ namespace rayaccel {
 ///   are then fan-triangulated (0, i, i+1) here. A file with several meshes is concatenated in scene-graph order:
 ///   the node tree depth-first, parents before children, each node's meshes in its own order, with the accumulated
 ///   node transforms applied (a mesh instanced by two nodes appears twice).
-TriangleMesh import_mesh(const std::filesystem::path& path);
+/// With `geometries`, it is reset to one geometry per mesh placed, in that order (meshes without triangles left out, as
+/// import_mesh_hierarchy()'s placements; a PLY file is one geometry): the geometry ids of a plain multi-mesh scene.
+TriangleMesh import_mesh(const std::filesystem::path& path, GeometryTable* geometries = nullptr);
 
 /// A mesh file with its node hierarchy kept: each mesh once, and where the nodes place it.
 struct MeshHierarchy {
@@ -48,7 +51,8 @@ struct MeshHierarchy {
 MeshHierarchy import_mesh_hierarchy(const std::filesystem::path& path);
 
 /// A scene from a spec: "builtin:NAME[:key=value,...]" (see builtin_scenes.h) or a mesh file path. The scene is
-/// named after the file stem or the builtin name.
-Scene load_scene(std::string_view spec);
+/// named after the file stem or the builtin name. With `geometries`, it is reset to the scene's meshes as
+/// import_mesh() numbers them (a builtin scene: one geometry).
+Scene load_scene(std::string_view spec, GeometryTable* geometries = nullptr);
 
 }  // namespace rayaccel
