@@ -115,6 +115,12 @@ rayaccel_status rayaccel_intersect_context(const rayaccel_accel* accel, const ra
                                            const rayaccel_ray* rays, size_t count, rayaccel_hit* hits);
 rayaccel_status rayaccel_occluded_context(const rayaccel_accel* accel, const rayaccel_query_context* context,
                                           const rayaccel_ray* rays, size_t count, uint8_t* occluded);
+/* The packet calls under a context: the answers of the two calls above, each run of 8 consecutive rays traced as one
+ * packet where the structure has a packet traversal (bvh_wide). */
+rayaccel_status rayaccel_intersect_packets_context(const rayaccel_accel* accel, const rayaccel_query_context* context,
+                                                   const rayaccel_ray* rays, size_t count, rayaccel_hit* hits);
+rayaccel_status rayaccel_occluded_packets_context(const rayaccel_accel* accel, const rayaccel_query_context* context,
+                                                  const rayaccel_ray* rays, size_t count, uint8_t* occluded);
 
 #ifdef __cplusplus
 }

@@ -179,7 +179,8 @@ class Accelerator(_core._Accelerator):
         secondary ray leaves; mask: per-ray uint32 masks and geometry_mask: per-geometry masks (geometries: the
         GeometryTable of rayaccel.meshes(); without it the scene is one geometry), a geometry being seen when
         mask & geometry_mask != 0 (Embree's rule; a geometry mask of 0 disables it without a rebuild); enabled: per
-        primitive, False hides it (cut-outs, an opacity array > 0). Not with stats or packets."""
+        primitive, False hides it (cut-outs, an opacity array > 0). Not with stats; with packets=True through the
+        packet traversal."""
         flat, shape = as_rays(rays, directions, t_min, t_max)
         if out is not None:
             if not isinstance(out, Hits):
@@ -187,9 +188,9 @@ class Accelerator(_core._Accelerator):
             out = out.records.reshape(-1).view(np.uint8).reshape(-1, HIT_DTYPE.itemsize)
         controls = _controls(skip, skip_geometry, mask, geometry_mask, geometries, enabled)
         if controls is not None:
-            if stats or packets:
-                raise ValueError("skip, skip_geometry, mask, geometry_mask and enabled work without stats and packets")
-            records, counts = self._trace_in_context(flat, False, bool(check), out, *controls), None
+            if stats:
+                raise ValueError("skip, skip_geometry, mask, geometry_mask and enabled work without stats")
+            records, counts = self._trace_in_context(flat, False, bool(packets), bool(check), out, *controls), None
         else:
             records, counts = self._intersect(flat, bool(stats), bool(packets), bool(check), out)
         p = n = None
@@ -207,9 +208,9 @@ class Accelerator(_core._Accelerator):
         flat, shape = as_rays(rays, directions, t_min, t_max)
         controls = _controls(skip, skip_geometry, mask, geometry_mask, geometries, enabled)
         if controls is not None:
-            if stats or packets:
-                raise ValueError("skip, skip_geometry, mask, geometry_mask and enabled work without stats and packets")
-            return self._trace_in_context(flat, True, bool(check), None, *controls).reshape(shape)
+            if stats:
+                raise ValueError("skip, skip_geometry, mask, geometry_mask and enabled work without stats")
+            return self._trace_in_context(flat, True, bool(packets), bool(check), None, *controls).reshape(shape)
         answers, counts = self._occluded(flat, bool(stats), bool(packets), bool(check))
         answers = answers.reshape(shape)
         return (answers, TraversalStats(counts, shape)) if stats else answers

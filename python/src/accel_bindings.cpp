@@ -108,8 +108,9 @@ class PyAccelerator : public LockedStructure<PyAccelerator, Accelerator, Scene> 
   }
 
   /// Closest hits ((N, 16) uint8 records, written into `out` when given) or, with `any`, any hits ((N,) bool) under
-  /// the query controls (see ContextArrays): skipped primitives and geometries, masks, primitive switches.
-  py::object trace_in_context(const py::handle& rays_object, bool any, bool check, const py::object& out,
+  /// the query controls (see ContextArrays): skipped primitives and geometries, masks, primitive switches. With
+  /// `packets`, through the packet forms (intersect_packets(), occluded_packets()).
+  py::object trace_in_context(const py::handle& rays_object, bool any, bool packets, bool check, const py::object& out,
                               const py::object& skip, const py::object& skip_geometry, const py::object& mask,
                               const py::object& geometry_mask, const std::shared_ptr<GeometryTable>& geometries,
                               const py::object& enabled) const {
@@ -122,14 +123,27 @@ class PyAccelerator : public LockedStructure<PyAccelerator, Accelerator, Scene> 
     if (any) {
       auto [answers, answer_span] = answer_array(rays.size());
       trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
-        accel.occluded(controls.slice(begin, end), rays.subspan(begin, end - begin),
-                       answer_span.subspan(begin, end - begin));
+        const QueryContext context = controls.slice(begin, end);
+        const auto block = rays.subspan(begin, end - begin);
+        const auto answers_block = answer_span.subspan(begin, end - begin);
+        if (packets) {
+          accel.occluded_packets(context, block, answers_block);
+        } else {
+          accel.occluded(context, block, answers_block);
+        }
       });
       return answers;
     }
     auto [records, hits] = record_array<Hit>(rays.size(), out);
     trace(rays, check, [&](const Accelerator& accel, std::size_t begin, std::size_t end) {
-      accel.intersect(controls.slice(begin, end), rays.subspan(begin, end - begin), hits.subspan(begin, end - begin));
+      const QueryContext context = controls.slice(begin, end);
+      const auto block = rays.subspan(begin, end - begin);
+      const auto hits_block = hits.subspan(begin, end - begin);
+      if (packets) {
+        accel.intersect_packets(context, block, hits_block);
+      } else {
+        accel.intersect(context, block, hits_block);
+      }
     });
     return records;
   }
@@ -330,7 +344,8 @@ void bind_accelerator(py::module_& m) {
            py::arg("check"), py::arg("out"))
       .def("_occluded", &PyAccelerator::occluded, py::arg("rays"), py::arg("stats"), py::arg("packets"),
            py::arg("check"))
-      .def("_trace_in_context", &PyAccelerator::trace_in_context, py::arg("rays"), py::arg("any"), py::arg("check"),
+      .def("_trace_in_context", &PyAccelerator::trace_in_context, py::arg("rays"), py::arg("any"), py::arg("packets"),
+           py::arg("check"),
            py::arg("out"), py::arg("skip"), py::arg("skip_geometry"), py::arg("mask"), py::arg("geometry_mask"),
            py::arg("geometries"), py::arg("enabled"))
       .def("_surface", &PyAccelerator::surface, py::arg("rays"), py::arg("records"))

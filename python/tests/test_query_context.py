@@ -88,6 +88,26 @@ def test_masks_and_geometries():
     np.testing.assert_array_equal(skip_g.prim_id, off.prim_id)
 
 
+@pytest.mark.parametrize("spec", ["bvh_wide", "bvh"])
+def test_packets_take_the_same_controls(spec):
+    # Camera-like rays in runs of eight (the packet traversal of bvh_wide; bvh traces them one by one) under every
+    # control at once give the batch form's answers.
+    parts = [soup(200, seed=s) for s in (11, 12)]
+    scene, table = rayaccel.meshes(parts)
+    accel = rayaccel.build(scene, spec)
+    rays = random_rays(scene, 1203, seed=13)
+    first = accel.intersect(rays)
+    enabled = (np.arange(scene.primitive_count) * 2654435761 >> 13) & 3 != 0
+    controls = dict(skip=first.prim_id, mask=np.where(np.arange(len(rays)) % 3 == 0, 1, 3).astype(np.uint32),
+                    geometry_mask=[2, 1], geometries=table, enabled=enabled)
+    want = accel.intersect(rays, **controls)
+    got = accel.intersect(rays, packets=True, **controls)
+    np.testing.assert_array_equal(got.prim_id, want.prim_id)
+    np.testing.assert_array_equal(got.t, want.t)
+    assert (got.prim_id != first.prim_id).any()
+    np.testing.assert_array_equal(accel.occluded(rays, packets=True, **controls), want.prim_id != rayaccel.MISS)
+
+
 def test_bad_controls_are_named():
     vertices, triangles = soup(50)
     scene = rayaccel.mesh(vertices, triangles)

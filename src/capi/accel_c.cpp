@@ -139,6 +139,31 @@ extern "C" rayaccel_status rayaccel_occluded_context(const rayaccel_accel* accel
   });
 }
 
+extern "C" rayaccel_status rayaccel_intersect_packets_context(const rayaccel_accel* accel,
+                                                              const rayaccel_query_context* context,
+                                                              const rayaccel_ray* rays, size_t count,
+                                                              rayaccel_hit* hits) {
+  return with_context("rayaccel_intersect_packets_context", accel, context, count,
+                      [&](const rayaccel::QueryContext& q) {
+                        trace_hits(accel, rays, count, hits, [&](const rayaccel::Accelerator& a, auto in, auto out) {
+                          a.intersect_packets(q, in, out);
+                        });
+                      });
+}
+
+extern "C" rayaccel_status rayaccel_occluded_packets_context(const rayaccel_accel* accel,
+                                                             const rayaccel_query_context* context,
+                                                             const rayaccel_ray* rays, size_t count,
+                                                             uint8_t* occluded) {
+  return with_context("rayaccel_occluded_packets_context", accel, context, count,
+                      [&](const rayaccel::QueryContext& q) {
+                        trace_occluded(accel, rays, count, occluded,
+                                       [&](const rayaccel::Accelerator& a, auto in, auto out) {
+                                         a.occluded_packets(q, in, out);
+                                       });
+                      });
+}
+
 extern "C" rayaccel_status rayaccel_accel_new(rayaccel_scene* scene, const char* spec, rayaccel_accel** out) {
   return guarded("rayaccel_accel_new", [&] {
     require(scene, "scene");

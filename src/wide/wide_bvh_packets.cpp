@@ -1,14 +1,17 @@
 // Packet traversal of the eight-wide BVH: eight coherent rays traced together (Wald, Slusallek, Benthin, Wagner
 // 2001) with the packet-per-child box test of Embree's hybrid traversal (Wald et al. 2014), every lane doing the
-// single-ray kernels' float operations for its ray; packets off the fast path are traced ray by ray.
+// single-ray kernels' float operations for its ray; packets off the fast path are traced ray by ray. Under a query
+// context each lane's rules are asked before every triangle test (packet_context.h).
 #include <algorithm>
 #include <array>
 #include <cfloat>
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
+#include "packet_context.h"
 #include "packet_lanes.h"
 #include "rayaccel/wide/wide_bvh.h"
 
@@ -17,9 +20,11 @@ namespace rayaccel::wide {
 #if RAYACCEL_AVX_KERNELS
 RAYACCEL_LANE_CODE_BEGIN
 
-template <class S, bool AnyHit>
-RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits) const {
+template <class S, bool AnyHit, class Context>
+RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits,
+                                                Context& context) const {
   using F = typename S::F;
+  constexpr bool kWithContext = !std::is_same_v<Context, NoPacketContext>;
   std::array<Ray, kPacketSize> padded;  // a last, partial packet: void rays in the missing lanes
   const Ray* rays = packet_rays;
   if (count < kPacketSize) {
@@ -35,7 +40,12 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
     // packets): ray by ray, with the single-ray traversal.
     const std::array<PreparedRay, kPacketSize> prepared = prepare_rays(rays, std::make_index_sequence<8>{});
     for (int i = 0; i < kPacketSize; ++i) {
-      if (lanes_in.active >> i & 1) traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], none);
+      if (!(lanes_in.active >> i & 1)) continue;
+      if constexpr (kWithContext) {
+        traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], context.lane(i));
+      } else {
+        traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], none);
+      }
     }
   } else if (lanes_in.active) {
     // With the same direction signs in every active ray (coherent packets almost always), each axis's near plane is
@@ -83,6 +93,28 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
         meets = S::bit_and(S::le(t_near, t_far), lane_mask);
         return S::movemask(meets);
       };
+      // Triangle j of `block` against the rays of `testing`, each new hit kept only when the context's filter accepts
+      // it (a rejected lane gets its hit and far bound back); returns the rays whose hit changed.
+      [[maybe_unused]] const auto test_filtered = [&](const simd::Triangle4& block, int j, int testing)
+                                                      RAYACCEL_LANE_LAMBDA {
+        std::array<Hit, kPacketSize> before = hit;
+        int changed = intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j,
+                                                 hit.data(), far_bound);
+        if constexpr (kWithContext) {
+          const int rejected = changed ? context.reject(changed, hit.data(), before.data()) : 0;
+          if (rejected) {
+            alignas(32) float far[kPacketSize];
+            S::store(far, far_bound);
+            for (int rest = rejected; rest; rest &= rest - 1) {
+              const int lane = __builtin_ctz(static_cast<unsigned>(rest));
+              far[lane] = hit[lane].t;
+            }
+            far_bound = S::load(far);
+            changed &= ~rejected;
+          }
+        }
+        return changed;
+      };
       // Every triangle of leaf `ref` against the rays of `leaf_rays`; returns the rays whose hit changed. Any-hit
       // drops a ray from the remaining triangles at its first hit and stops when every ray of the leaf has one.
       const auto test_leaf = [&](std::uint32_t ref, int leaf_rays) RAYACCEL_LANE_LAMBDA {
@@ -91,7 +123,16 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
         for (std::uint32_t b = leaf_first_block(ref); b < end; ++b) {
           const simd::Triangle4& block = blocks_[b];
           for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
-            const int testing = AnyHit ? leaf_rays & ~found : leaf_rays;
+            int testing = AnyHit ? leaf_rays & ~found : leaf_rays;
+            if constexpr (kWithContext) {
+              testing = context.allowed(block.prim_id[j], testing);
+              if (!testing) continue;
+              if (context.has_filter()) {
+                found |= test_filtered(block, j, testing);
+                if (AnyHit && found == leaf_rays) return found;
+                continue;
+              }
+            }
             found |= intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j, hit.data(),
                                                 far_bound);
             if (AnyHit && found == leaf_rays) return found;
@@ -270,7 +311,8 @@ void WideBvh::intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) 
   }
   detail::check_batch_sizes(rays.size(), hits.size(), 0);
   for_each_packet(rays, isa_, [&]<class Lanes>(std::size_t first, int count) RAYACCEL_LANE_LAMBDA {
-    trace_packet<Lanes, false>(rays.data() + first, count, hits.data() + first);
+    NoPacketContext none;
+    trace_packet<Lanes, false>(rays.data() + first, count, hits.data() + first, none);
   });
 }
 
@@ -282,7 +324,37 @@ void WideBvh::occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t
   detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
   for_each_packet(rays, isa_, [&]<class Lanes>(std::size_t first, int count) RAYACCEL_LANE_LAMBDA {
     std::array<Hit, detail::kPacketSize> hits;
-    trace_packet<Lanes, true>(rays.data() + first, count, hits.data());
+    NoPacketContext none;
+    trace_packet<Lanes, true>(rays.data() + first, count, hits.data(), none);
+    for (int i = 0; i < count; ++i) occluded_out[first + i] = hits[i].found() ? 1 : 0;
+  });
+}
+
+void WideBvh::intersect_packets(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (!has_packet_traversal()) {
+    intersect(context, rays, hits);  // one by one, as intersect_packets()
+    return;
+  }
+  detail::check_batch_sizes(rays.size(), hits.size(), 0);
+  detail::check_context_sizes(context, rays.size());
+  for_each_packet(rays, isa_, [&]<class Lanes>(std::size_t first, int count) RAYACCEL_LANE_LAMBDA {
+    PacketContext<static_cast<int>(detail::kPacketSize)> lanes(context, first, count);
+    trace_packet<Lanes, false>(rays.data() + first, count, hits.data() + first, lanes);
+  });
+}
+
+void WideBvh::occluded_packets(const QueryContext& context, std::span<const Ray> rays,
+                               std::span<std::uint8_t> occluded_out) const {
+  if (!has_packet_traversal()) {
+    occluded(context, rays, occluded_out);  // one by one, as intersect_packets()
+    return;
+  }
+  detail::check_batch_sizes(rays.size(), occluded_out.size(), 0);
+  detail::check_context_sizes(context, rays.size());
+  for_each_packet(rays, isa_, [&]<class Lanes>(std::size_t first, int count) RAYACCEL_LANE_LAMBDA {
+    std::array<Hit, detail::kPacketSize> hits;
+    PacketContext<static_cast<int>(detail::kPacketSize)> lanes(context, first, count);
+    trace_packet<Lanes, true>(rays.data() + first, count, hits.data(), lanes);
     for (int i = 0; i < count; ++i) occluded_out[first + i] = hits[i].found() ? 1 : 0;
   });
 }

@@ -89,6 +89,17 @@ static int reject_roof(void* data, const rayaccel_candidate* c) {
   return c->geom_id != 1;
 }
 
+/* The packet calls under `context` answer as the batch calls do (hits[] and occluded[] from those). */
+static void check_packets_agree(const rayaccel_accel* accel, const rayaccel_query_context* context,
+                                const rayaccel_ray* rays, const rayaccel_hit* hits, const uint8_t* occluded) {
+  rayaccel_hit packet_hits[2];
+  uint8_t packet_occluded[2];
+  CHECK(rayaccel_intersect_packets_context(accel, context, rays, 2, packet_hits) == RAYACCEL_OK);
+  CHECK(memcmp(packet_hits, hits, sizeof(packet_hits)) == 0);
+  CHECK(rayaccel_occluded_packets_context(accel, context, rays, 2, packet_occluded) == RAYACCEL_OK);
+  CHECK(memcmp(packet_occluded, occluded, sizeof(packet_occluded)) == 0);
+}
+
 /* Skip, masks and a filter: each hides the roof from the ray under it, which then hits the floor at t = 2. */
 static void check_context(rayaccel_scene* scene, const char* spec) {
   rayaccel_accel* accel = NULL;
@@ -117,6 +128,13 @@ static void check_context(rayaccel_scene* scene, const char* spec) {
   CHECK(rayaccel_scene_set_mask(scene, 1, 2) == RAYACCEL_OK);
   CHECK(rayaccel_intersect_context(accel, &masked, rays, 2, hits) == RAYACCEL_OK);
   CHECK(hits[0].geom_id == 0 && hits[1].geom_id == 1);
+  /* The packet calls under each context so far: a skipped triangle, a geometry, a filter, masks. */
+  const rayaccel_query_context* contexts[4] = {&skip, &whole, &filtered, &masked};
+  for (int k = 0; k < 4; ++k) {
+    CHECK(rayaccel_intersect_context(accel, contexts[k], rays, 2, hits) == RAYACCEL_OK);
+    CHECK(rayaccel_occluded_context(accel, contexts[k], rays, 2, occluded) == RAYACCEL_OK);
+    check_packets_agree(accel, contexts[k], rays, hits, occluded);
+  }
   CHECK(rayaccel_scene_set_mask(scene, 1, 0) == RAYACCEL_OK);
   CHECK(rayaccel_occluded_context(accel, NULL, rays, 2, occluded) == RAYACCEL_OK && occluded[0] == 1);
   CHECK(rayaccel_intersect_context(accel, NULL, rays, 2, hits) == RAYACCEL_OK);

@@ -1,7 +1,8 @@
 // Conformance: query contexts (core/query_context.h) on every registered structure, against brute force over a copy
 // of the scene with the ruled-out primitives made invalid (or, for per-ray skips, a brute-force loop that leaves the
 // skipped primitive or geometry out): a hit filter and per-primitive switches rejecting a fixed pseudo-random half,
-// ray masks against geometry masks, and a primitive and a geometry skipped per ray.
+// ray masks against geometry masks, and a primitive and a geometry skipped per ray; every query form (single ray,
+// batch, packets) answers alike.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -70,8 +71,8 @@ const std::vector<Case>& cases() {
 /// Per ray index and primitive: true when the context rules the primitive out for that ray.
 using RuledOut = std::function<bool(std::size_t, std::uint32_t)>;
 
-/// Compares every query form under `context` (single ray, batch; closest and any hit) with `expected`, checking ties
-/// against `reference_scene`; a hit on a primitive `ruled_out` names is a fault even at a tie.
+/// Compares every query form under `context` (single ray, batch, packets; closest and any hit) with `expected`,
+/// checking ties against `reference_scene`; a hit on a primitive `ruled_out` names is a fault even at a tie.
 void expect_context_answers(const Accelerator& accel, const QueryContext& context, const Scene& reference_scene,
                             std::span<const Ray> rays, std::span<const Hit> expected, const std::string& label,
                             const RuledOut& ruled_out = [](std::size_t, std::uint32_t) { return false; }) {
@@ -79,17 +80,23 @@ void expect_context_answers(const Accelerator& accel, const QueryContext& contex
   accel.intersect(context, rays, batch);
   std::vector<std::uint8_t> occluded(rays.size(), 2);
   accel.occluded(context, rays, occluded);
+  std::vector<Hit> packets(rays.size());
+  accel.intersect_packets(context, rays, packets);
+  std::vector<std::uint8_t> occluded_packets(rays.size(), 2);
+  accel.occluded_packets(context, rays, occluded_packets);
   int faults = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Hit one = accel.intersect(context, rays[i], i);
     std::string fault = hit_mismatch(reference_scene, rays[i], expected[i], one);
     if (fault.empty()) fault = hit_mismatch(reference_scene, rays[i], expected[i], batch[i]);
-    const Hit* answers[] = {&one, &batch[i]};
+    if (fault.empty()) fault = hit_mismatch(reference_scene, rays[i], expected[i], packets[i]);
+    const Hit* answers[] = {&one, &batch[i], &packets[i]};
     for (const Hit* h : answers) {
       if (fault.empty() && h->found() && ruled_out(i, h->prim_id)) fault = "hit a primitive the context rules out";
     }
     if (fault.empty() && accel.occluded(context, rays[i], i) != expected[i].found()) fault = "occluded(ray) differs";
     if (fault.empty() && occluded[i] != (expected[i].found() ? 1 : 0)) fault = "occluded(batch) differs";
+    if (fault.empty() && occluded_packets[i] != (expected[i].found() ? 1 : 0)) fault = "occluded_packets differs";
     if (fault.empty()) continue;
     if (++faults <= 3) {
       ADD_FAILURE() << accel.spec() << " / " << label << " / ray " << i << ": " << fault << "\n  " << describe(rays[i])

@@ -84,6 +84,16 @@ class Accelerator {
   virtual void intersect(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const;
   virtual void occluded(const QueryContext& context, std::span<const Ray> rays,
                         std::span<std::uint8_t> occluded) const;
+  /// The packet forms under a context, with the answers of the batch forms above: bvh_wide's packet traversal asks
+  /// each lane's rules of every triangle before its test (and the filter of each closer hit); the other structures
+  /// trace the rays one by one, as their plain packet forms do.
+  virtual void intersect_packets(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const {
+    intersect(context, rays, hits);
+  }
+  virtual void occluded_packets(const QueryContext& context, std::span<const Ray> rays,
+                                std::span<std::uint8_t> occluded) const {
+    this->occluded(context, rays, occluded);
+  }
 
   // Queries beyond the first hit, on triangle scenes, for the structures whose traversal can enumerate every
   // candidate of a ray or search near a point (supports_queries(): brute force, the BVH family, bvh_wide). The others,

@@ -81,6 +81,8 @@ class EmbreeAccelerator final : public Accelerator {
   /// context flagged coherent), in the batch loop and floating-point mode of intersect(rays, hits), with its hit
   /// rules. Void rays and rays with an empty interval are inactive lanes and miss; a final partial packet has its
   /// missing lanes inactive; a packet with no active lane does not reach Embree.
+  using Accelerator::intersect_packets;  // the context forms: Embree's context filter, ray by ray
+  using Accelerator::occluded_packets;
   void intersect_packets(std::span<const Ray> rays, std::span<Hit> hits) const override;
   /// The same with rtcOccluded8 for any hits: 1 for a lane Embree reports occluded, 0 for the others (inactive lanes
   /// included).

@@ -102,6 +102,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// Any hits, eight rays at a time with eight-wide nodes (wide_bvh_packets.cpp), each ray leaving its packet once
   /// occluded; one by one where intersect_packets() is.
   void occluded_packets(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const override;
+  /// The packet forms under a query context: the same packet traversal, each lane's rules asked before every
+  /// triangle test and the filter of every closer hit (wide_bvh_packets.cpp).
+  void intersect_packets(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const override;
+  void occluded_packets(const QueryContext& context, std::span<const Ray> rays,
+                        std::span<std::uint8_t> occluded) const override;
 
   /// The queries beyond the first hit (wide_bvh_queries.cpp; see detail::StructureWithQueries): scalar walks over
   /// the same nodes and blocks.
@@ -181,9 +186,10 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// True when the packet traversals run: eight-wide nodes (AVX builds) over a non-empty triangle tree.
   bool has_packet_traversal() const;
   /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count), or with AnyHit a hit (the first
-  /// found) for each occluded ray and a miss for the others (wide_bvh_packets.cpp).
-  template <class S, bool AnyHit>
-  RAYACCEL_LANE_INLINE void trace_packet(const Ray* rays, int count, Hit* hits) const;
+  /// found) for each occluded ray and a miss for the others (wide_bvh_packets.cpp). Context is NoPacketContext or
+  /// the packet's PacketContext (src/wide/packet_context.h).
+  template <class S, bool AnyHit, class Context>
+  RAYACCEL_LANE_INLINE void trace_packet(const Ray* rays, int count, Hit* hits, Context& context) const;
   /// Asks for the four cache lines of a child met by the box test (an inner node's 256 bytes, or a leaf's first
   /// blocks) before it is visited, as Embree's traversal does: incoherent rays spend most of their time waiting for
   /// nodes, and the children pushed now are popped after the memory has had time to answer.
