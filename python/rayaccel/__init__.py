@@ -84,15 +84,18 @@ def spheres(centers, radii, name="spheres"):
     return _core._spheres(real_array(centers, "centers"), float(radii) if radii.ndim == 0 else radii, str(name))
 
 
-def load(spec):
+def load(spec, *, geometries=False):
     """A scene from a mesh file the CLI reads (PLY, OBJ, glTF, STL, ... through assimp) or "builtin:NAME[:k=v,...]".
 
+    geometries=True returns (scene, GeometryTable): each mesh of a file of several (OBJ objects, glTF nodes, ...) is a
+    geometry, numbered in the order the file's meshes are concatenated (a PLY file or builtin scene is one), for
+    table.geometry_of(hits.prim_id) and the geometry_mask / skip_geometry controls.
     Raises FileNotFoundError for a missing file, ValueError for one that is not a mesh or a bad builtin parameter.
     """
     spec = os.fspath(spec)
-    scene = _core._load(spec)
+    scene, table = _core._load_with_geometries(spec) if geometries else (_core._load(spec), None)
     scene.source = spec
-    return scene
+    return (scene, table) if geometries else scene
 
 
 def builtin(name, **params):

@@ -149,7 +149,8 @@ std::shared_ptr<Scene> sphere_scene(const py::handle& centers, const py::handle&
   return std::make_shared<Scene>(Scene::from_spheres(std::move(spheres), std::move(name)));
 }
 
-std::shared_ptr<Scene> load(const std::string& spec) {
+/// load_scene(spec, geometries), with FileNotFound for a missing file.
+std::shared_ptr<Scene> load(const std::string& spec, GeometryTable* geometries = nullptr) {
   if (spec.rfind("builtin:", 0) != 0) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(spec, ec)) {
@@ -157,7 +158,7 @@ std::shared_ptr<Scene> load(const std::string& spec) {
     }
   }
   py::gil_scoped_release release;
-  return std::make_shared<Scene>(load_scene(spec));
+  return std::make_shared<Scene>(load_scene(spec, geometries));
 }
 
 py::array_t<float> bounds_array(const Scene& scene) {
@@ -271,7 +272,15 @@ void bind_scene(py::module_& m) {
   m.def("_mesh_in_place", &mesh_scene_in_place, py::arg("vertices"), py::arg("triangles"), py::arg("name"),
         py::arg("allow_nonfinite"));
   m.def("_spheres", &sphere_scene, py::arg("centers"), py::arg("radii"), py::arg("name"));
-  m.def("_load", &load, py::arg("spec"));
+  m.def("_load", [](const std::string& spec) { return load(spec); }, py::arg("spec"));
+  m.def(
+      "_load_with_geometries",
+      [](const std::string& spec) {
+        auto table = std::make_shared<GeometryTable>();
+        std::shared_ptr<Scene> scene = load(spec, table.get());
+        return py::make_tuple(scene, table);
+      },
+      py::arg("spec"));
   m.def("_builtin_scenes", [] {
     py::list out;
     for (const auto& info : builtin_scenes()) {

@@ -108,6 +108,23 @@ def test_packets_take_the_same_controls(spec):
     np.testing.assert_array_equal(accel.occluded(rays, packets=True, **controls), want.prim_id != rayaccel.MISS)
 
 
+def test_geometry_ids_of_a_file_of_several_meshes(tmp_path):
+    # Two OBJ objects, a floor and a lamp above part of it: load(geometries=True) numbers them in file order.
+    path = tmp_path / "room.obj"
+    path.write_text("v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 0.5 0.5 1\nv 3 0.5 1\nv 0.5 3 1\n"
+                    "o floor\nf 1 2 3\nf 1 3 4\no lamp\nf 5 6 7\n")
+    scene, table = rayaccel.load(path, geometries=True)
+    assert table.geometry_count == 2 and table.first_primitive(1) == 2
+    assert isinstance(rayaccel.load(path), rayaccel.Scene)
+    x, y = np.meshgrid(0.25 + 0.5 * np.arange(8), 0.3 + 0.5 * np.arange(8))
+    origins = np.stack([x.ravel(), y.ravel(), np.full(x.size, 5.0)], axis=1)
+    accel = rayaccel.build(scene, "bvh_wide")
+    geom = table.geometry_of(accel.intersect(origins, [0, 0, -1]).prim_id)
+    assert set(geom) == {0, 1}
+    floor_only = accel.intersect(origins, [0, 0, -1], geometry_mask=[1, 0], geometries=table)
+    np.testing.assert_array_equal(table.geometry_of(floor_only.prim_id), 0)
+
+
 def test_bad_controls_are_named():
     vertices, triangles = soup(50)
     scene = rayaccel.mesh(vertices, triangles)
