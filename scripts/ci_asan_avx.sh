@@ -2,8 +2,9 @@
 # CI tier: the AVX2 and AVX-512 kernels under AddressSanitizer + UndefinedBehaviorSanitizer, which the Clang tree of
 # ci_asan.sh cannot check (Clang builds have the SSE kernels only). In the README's GCC tree (build, which CI has just
 # built), it compiles the kernels and every structure that runs them (src/simd, src/wide, the kd-tree and the grid) once
-# more with the sanitizers at -O1, and one small test executable (rayaccel_kernel_tests: the conformance tests and the
-# wide BVH's and SIMD kernels' unit tests) that links them ahead of the plain library; every executable links the
+# more with the sanitizers at -O0 (GCC's -O1 with ASan spends minutes on each structure's file; -O0 costs the tests less
+# than that), and one small test executable (rayaccel_kernel_tests: the conformance tests and the wide BVH's and SIMD
+# kernels' unit tests) that links them ahead of the plain library; every executable links the
 # runtimes, so each heap block, wherever allocated, has ASan's red zones. It runs the conformance tier on the variants
 # whose kernels are AVX: bvh_wide (the best ISA: AVX-512 where the CPU has it), bvh_wide with isa=avx2, the kd-tree and
 # the grid with Triangle4 blocks (AVX2).
