@@ -102,16 +102,8 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
                                                  hit.data(), far_bound);
         if constexpr (kWithContext) {
           const int rejected = changed ? context.reject(changed, hit.data(), before.data()) : 0;
-          if (rejected) {
-            alignas(32) float far[kPacketSize];
-            S::store(far, far_bound);
-            for (int rest = rejected; rest; rest &= rest - 1) {
-              const int lane = __builtin_ctz(static_cast<unsigned>(rest));
-              far[lane] = hit[lane].t;
-            }
-            far_bound = S::load(far);
-            changed &= ~rejected;
-          }
+          if (rejected) simd::set_lanes_to_hits<S>(far_bound, rejected, hit.data());
+          changed &= ~rejected;
         }
         return changed;
       };

@@ -227,6 +227,18 @@ RAYACCEL_LANE_INLINE bool intersect_triangle_lanes(const TrianglePacket<S>& ray,
   return updated;
 }
 
+/// Sets the lanes of `t_far` named in `lanes` to their hits' t (a packet's far bounds after its hits changed).
+template <class S>
+RAYACCEL_LANE_INLINE void set_lanes_to_hits(typename S::F& t_far, int lanes, const Hit* hits) {
+  alignas(32) float far[S::kWidth];
+  S::store(far, t_far);
+  for (int rest = lanes; rest; rest &= rest - 1) {
+    const int lane = __builtin_ctz(static_cast<unsigned>(rest));
+    far[lane] = hits[lane].t;
+  }
+  t_far = S::load(far);
+}
+
 /// Tests triangle `i` of `block` against the rays of a packet, one per lane of S, in the lanes set in `rays`: all of
 /// them share the axes kx, ky, kz (`axes`), and `packet` holds each lane's own origin, shear and t_min, as
 /// PreparedRay computes them from scalar_rays[lane] (which the scalar kernel gets for undecided lanes). Updates each
@@ -273,15 +285,7 @@ RAYACCEL_LANE_INLINE int intersect_triangle_rays(const TrianglePacket<S>& packet
       if (intersect_triangle(PreparedRay(scalar_rays[lane]), v0, v1, v2, prim_id, hits[lane])) updated |= 1 << lane;
     }
   }
-  if (updated) {
-    alignas(32) float far[W];
-    S::store(far, t_far);
-    for (int rest = updated; rest; rest &= rest - 1) {
-      const int lane = __builtin_ctz(static_cast<unsigned>(rest));
-      far[lane] = hits[lane].t;
-    }
-    t_far = S::load(far);
-  }
+  if (updated) set_lanes_to_hits<S>(t_far, updated, hits);
   return updated;
 }
 
