@@ -115,10 +115,9 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   }
   const bool with_context =
       !args.skip.empty() || !args.mask.empty() || !args.geometry_mask.empty() || !args.skip_geometry.empty();
-  if ((with_context || !args.geometry_ids.empty()) &&
-      (args.instances || args.precision == "double" || args.packets)) {
-    throw UsageError("--skip, --skip-geometry, --mask, --geometry-mask and --geometry-ids work without --instances, "
-                     "--precision double and --packets");
+  if ((with_context || !args.geometry_ids.empty()) && (args.instances || args.precision == "double")) {
+    throw UsageError("--skip, --skip-geometry, --mask, --geometry-mask and --geometry-ids work without --instances "
+                     "and --precision double");
   }
   if (!args.geometry_ids.empty() && (args.occlusion || args.out.empty())) {
     throw UsageError("--geometry-ids writes the companion of the --out .hits file: it needs --out, not --occlusion");
@@ -190,7 +189,9 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   const TracePasses passes = run_trace_passes<Hit>(
       rays.size(), args.occlusion, args.repeat, args.out.empty() ? std::string() : outputs.stage(args.out).string(),
       [&](std::span<Hit> hits) {
-        if (with_context) {
+        if (with_context && args.packets) {
+          accel->intersect_packets(context, rays, hits);
+        } else if (with_context) {
           accel->intersect(context, rays, hits);
         } else if (args.packets) {
           accel->intersect_packets(rays, hits);
@@ -199,7 +200,9 @@ int run_trace(const TraceArgs& args, bool threads_given) {
         }
       },
       [&](std::span<std::uint8_t> occluded) {
-        if (with_context) {
+        if (with_context && args.packets) {
+          accel->occluded_packets(context, rays, occluded);
+        } else if (with_context) {
           accel->occluded(context, rays, occluded);
         } else if (args.packets) {
           accel->occluded_packets(rays, occluded);
