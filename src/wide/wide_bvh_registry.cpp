@@ -28,8 +28,8 @@ const OptionTable<WideBvhOptions>& wide_bvh_option_table() {
            "pre-split only scenes whose pre-splitting potential (box area wasted at coarse grid planes over the scene "
            "box area; reported as presplit_potential) is at least this; 0 pre-splits every triangle scene");
     t.choice("collapse", &O::collapse, {{"area", WideCollapse::area}, {"sah", WideCollapse::sah}},
-             "how binary nodes are gathered into wide ones: area (open the child of largest surface area) or sah "
-             "(the least SAH cost, Ylitie et al. 2017's dynamic programme)");
+             "how binary nodes are gathered into wide ones: sah (the least SAH cost, Ylitie et al. 2017's dynamic "
+             "programme) or area (open the child of largest surface area)");
     t.rule([](const O& o) {
       if (o.width == 4 && o.isa != WideIsa::best) {
         throw Error("bvh_wide: isa=avx2 applies to the eight-wide kernels, not width=4");
@@ -48,7 +48,7 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 (or its "
       "AVX-512 build) when the CPU has it",
       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0",
-       "bvh_wide:presplit_threshold=0", "bvh_wide:collapse=sah"});
+       "bvh_wide:presplit_threshold=0", "bvh_wide:collapse=area"});
   info.saved_spec = wide_bvh_file_spec;
   registry.push_back(std::move(info));
 }

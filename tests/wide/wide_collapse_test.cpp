@@ -47,6 +47,7 @@ TEST_P(CollapseSah, CostsNoMoreThanTheAreaCollapseAndAnswersTheSame) {
     WideBvhOptions config;
     config.width = GetParam();
     config.presplit = 0.0f;
+    config.collapse = WideCollapse::area;
     WideBvh area(config);
     config.collapse = WideCollapse::sah;
     WideBvh sah(config);

@@ -1,5 +1,5 @@
-// Wide BVH (4 or 8 children per node, child boxes SoA, Triangle4 leaf blocks): a binary SAH tree collapsed greedily
-// (Wald, Benthin, Boulos 2008; Dammertz et al. 2008), traced with SSE2, AVX2 or AVX-512 lanes chosen at run time,
+// Wide BVH (4 or 8 children per node, child boxes SoA, Triangle4 leaf blocks): a binary SAH tree collapsed by the least
+// SAH cost (Ylitie, Karras, Laine 2017) or greedily (Wald, Benthin, Boulos 2008; Dammertz et al. 2008), traced with SSE2, AVX2 or AVX-512 lanes chosen at run time,
 // closest hit near-first, any hit farthest first per ray octant; packets of eight in wide_bvh_packets.cpp (Wald 2001).
 #pragma once
 
@@ -57,8 +57,9 @@ struct WideBvhOptions {
   /// on the conference room; 4 lies between the conference room and Sponza (potentials and runs: BENCHMARKS.md,
   /// "Option choices").
   float presplit_threshold = 4.0f;
-  /// How the binary tree is gathered into wide nodes.
-  WideCollapse collapse = WideCollapse::area;
+  /// How the binary tree is gathered into wide nodes: by the least SAH cost, which measured faster on three of the
+  /// four shared scenes and a third fewer nodes (docs/benchmark-history.md, step 31).
+  WideCollapse collapse = WideCollapse::sah;
 };
 
 template <int W>
