@@ -47,6 +47,7 @@ struct TraceArgs {
   std::string geometry_mask;            ///< --geometry-mask: M or M,M,...: every geometry's mask, or one each
   std::string skip_geometry;            ///< --skip-geometry: .ids file, a geometry per ray to ignore
   std::string geometry_ids;             ///< --geometry-ids: .ids file, each hit's geometry (companion of --out)
+  std::string enabled;                  ///< --enabled: .ids file, per primitive, 0 hides it
 };
 
 /// The masks of --geometry-mask, one per geometry of the scene: "M" gives every geometry M, "M0,M1,..." one each
@@ -113,11 +114,11 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (args.instances && args.precision == "double") {
     throw UsageError("--instances traces in float; it cannot be combined with --precision double");
   }
-  const bool with_context =
-      !args.skip.empty() || !args.mask.empty() || !args.geometry_mask.empty() || !args.skip_geometry.empty();
+  const bool with_context = !args.skip.empty() || !args.mask.empty() || !args.geometry_mask.empty() ||
+                            !args.skip_geometry.empty() || !args.enabled.empty();
   if ((with_context || !args.geometry_ids.empty()) && (args.instances || args.precision == "double")) {
-    throw UsageError("--skip, --skip-geometry, --mask, --geometry-mask and --geometry-ids work without --instances "
-                     "and --precision double");
+    throw UsageError("--skip, --skip-geometry, --mask, --geometry-mask, --enabled and --geometry-ids work without "
+                     "--instances and --precision double");
   }
   if (!args.geometry_ids.empty() && (args.occlusion || args.out.empty())) {
     throw UsageError("--geometry-ids writes the companion of the --out .hits file: it needs --out, not --occlusion");
@@ -158,8 +159,19 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (!args.geometry_mask.empty()) {
     geometry_masks = parse_geometry_masks(args.geometry_mask, geometries.geometry_count());
   }
+  std::vector<std::uint8_t> enabled;
+  if (!args.enabled.empty()) {
+    const std::vector<std::uint32_t> switches = read_ids(args.enabled);
+    if (switches.size() != scene.primitive_count()) {
+      throw Error("--enabled '" + args.enabled + "': " + std::to_string(switches.size()) + " entries for " +
+                  std::to_string(scene.primitive_count()) + " primitives (one uint32 per primitive)");
+    }
+    enabled.resize(switches.size());
+    for (std::size_t p = 0; p < switches.size(); ++p) enabled[p] = switches[p] != 0 ? 1 : 0;
+  }
   QueryContext context;
   context.skip_primitive = skip;
+  context.primitive_enabled = enabled;
   context.skip_geometry = skip_geometry;
   context.ray_mask = mask;
   context.geometry_mask = geometry_masks;
@@ -244,6 +256,7 @@ int run_trace(const TraceArgs& args, bool threads_given) {
   if (!args.skip.empty()) summary["skip"] = args.skip;
   if (!args.mask.empty()) summary["mask"] = args.mask;
   if (!args.skip_geometry.empty()) summary["skip_geometry"] = args.skip_geometry;
+  if (!args.enabled.empty()) summary["enabled"] = args.enabled;
   if (!args.geometry_ids.empty()) summary["geometry_ids"] = args.geometry_ids;
   summary["geometries"] = geometries.geometry_count();
   fmt::print("{}\n", summary.dump());
@@ -298,6 +311,9 @@ Command add_trace_command(CLI::App& root) {
                   "numbers them): a ray sees geometry g when its --mask & M_g != 0; a mask of 0 hides a mesh");
   app->add_option("--skip-geometry", args->skip_geometry,
                   "A .ids file (uint32 per ray, 0xFFFFFFFF: none): the geometry (mesh) each ray ignores");
+  app->add_option("--enabled", args->enabled,
+                  "A .ids file with one uint32 per primitive of the scene: 0 hides the primitive from every ray "
+                  "(cut-outs, an opacity threshold), nonzero keeps it");
   app->add_option("--geometry-ids", args->geometry_ids,
                   "With --out: write the geometry id of each hit (uint32 per ray, 0xFFFFFFFF for a miss), the mesh of "
                   "a scene file of several meshes in the file's scene-graph order (a PLY file or builtin: 0)");

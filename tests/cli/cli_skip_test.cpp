@@ -1,6 +1,7 @@
 // End-to-end: `rayaccel trace --skip FILE` and `--mask FILE --geometry-mask M` (companion .ids files of a .rays file)
 // give in-process brute force's answers with the same query context; bad companion files fail naming the file. On a
-// file of several meshes, --geometry-ids names each hit's mesh and --geometry-mask / --skip-geometry act per mesh.
+// file of several meshes, --geometry-ids names each hit's mesh, --geometry-mask / --skip-geometry act per mesh and
+// --enabled hides primitives.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -140,6 +141,13 @@ TEST(CliTraceSkip, GeometryIdsAndMasksOfASceneFileOfSeveralMeshes) {
   lamp_only.skip_geometry = zeros;
   lamp_only.geometry_starts = geometries.starts();
   check({"--skip-geometry", (c.dir / "zeros.ids").string()}, lamp_only);
+  // Primitive switches: the lamp and the floor's first triangle hidden.
+  const std::vector<std::uint32_t> switches = {0, 7, 0};
+  write_ids(c.dir / "switches.ids", switches);
+  const std::vector<std::uint8_t> enabled = {0, 1, 0};
+  QueryContext switched;
+  switched.primitive_enabled = enabled;
+  check({"--enabled", (c.dir / "switches.ids").string()}, switched);
 
   // A mask list of the wrong length, a bad mask and --geometry-ids without --out fail naming what is wrong.
   result = run_cli({"trace", obj.string(), rays_file.string(), "--geometry-mask", "1,2,3"});
@@ -148,6 +156,9 @@ TEST(CliTraceSkip, GeometryIdsAndMasksOfASceneFileOfSeveralMeshes) {
   result = run_cli({"trace", obj.string(), rays_file.string(), "--geometry-mask", "1,lamp"});
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.err.find("'lamp'"), std::string::npos) << result.err;
+  result = run_cli({"trace", obj.string(), rays_file.string(), "--enabled", (c.dir / "zeros.ids").string()});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.err.find("64 entries for 3 primitives"), std::string::npos) << result.err;
   result = run_cli({"trace", obj.string(), rays_file.string(), "--geometry-ids", ids_file.string()});
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.err.find("needs --out"), std::string::npos) << result.err;
