@@ -93,19 +93,21 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
         meets = S::bit_and(S::le(t_near, t_far), lane_mask);
         return S::movemask(meets);
       };
-      // Triangle j of `block` against the rays of `testing`, each new hit kept only when the context's filter accepts
-      // it (a rejected lane gets its hit and far bound back); returns the rays whose hit changed.
-      [[maybe_unused]] const auto test_filtered = [&](const simd::Triangle4& block, int j, int testing)
-                                                      RAYACCEL_LANE_LAMBDA {
-        std::array<Hit, kPacketSize> before = hit;
-        int changed = intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j,
-                                                 hit.data(), far_bound);
+      // Triangle j of `block` against the rays of `testing`; returns the rays whose hit changed. Under a context with a
+      // filter, each new hit is kept only when the filter accepts it (a rejected lane gets its hit and far bound back).
+      const auto test_triangle = [&](const simd::Triangle4& block, int j, int testing) RAYACCEL_LANE_LAMBDA {
         if constexpr (kWithContext) {
-          const int rejected = changed ? context.reject(changed, hit.data(), before.data()) : 0;
-          if (rejected) simd::set_lanes_to_hits<S>(far_bound, rejected, hit.data());
-          changed &= ~rejected;
+          if (context.has_filter()) {
+            const std::array<Hit, kPacketSize> before = hit;
+            const int changed = intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j,
+                                                           hit.data(), far_bound);
+            const int rejected = changed ? context.reject(changed, hit.data(), before.data()) : 0;
+            if (rejected) simd::set_lanes_to_hits<S>(far_bound, rejected, hit.data());
+            return changed & ~rejected;
+          }
         }
-        return changed;
+        return intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j, hit.data(),
+                                          far_bound);
       };
       // Every triangle of leaf `ref` against the rays of `leaf_rays`; returns the rays whose hit changed. Any-hit
       // drops a ray from the remaining triangles at its first hit and stops when every ray of the leaf has one.
@@ -117,16 +119,10 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
           for (int j = 0; j < 4 && block.prim_id[j] != kInvalidPrimId; ++j) {  // padding only at the end
             int testing = AnyHit ? leaf_rays & ~found : leaf_rays;
             if constexpr (kWithContext) {
-              testing = context.allowed(block.prim_id[j], testing);
+              testing = context.allowed(block.prim_id[j], testing);  // the lanes whose rules let them test it
               if (!testing) continue;
-              if (context.has_filter()) {
-                found |= test_filtered(block, j, testing);
-                if (AnyHit && found == leaf_rays) return found;
-                continue;
-              }
             }
-            found |= intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j, hit.data(),
-                                                far_bound);
+            found |= test_triangle(block, j, testing);
             if (AnyHit && found == leaf_rays) return found;
           }
         }

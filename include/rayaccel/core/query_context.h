@@ -31,7 +31,8 @@ using HitFilter = bool (*)(void* user_data, const HitCandidate& candidate);
 /// The optional per-ray controls of a query. Every span may be empty (the control is off); a per-ray span has one entry
 /// per ray of the batch (the single-ray forms read entry ray_index); a candidate primitive p of geometry g is tested
 /// only when p != skip_primitive[i], g != skip_geometry[i], (ray_mask[i] & geometry_mask[g]) != 0 and
-/// primitive_enabled[p] != 0 — all before the exact test — and then kept only when filter accepts it.
+/// primitive_enabled[p] != 0 — all before the exact test (SIMD leaves ask a lone skip of the lanes their float test
+/// leaves, before any scalar work) — and then kept only when filter accepts it.
 struct QueryContext {
   std::span<const std::uint32_t> skip_primitive;  ///< per ray; kInvalidPrimId skips nothing
   std::span<const std::uint32_t> skip_geometry;   ///< per ray; kInvalidPrimId skips nothing
