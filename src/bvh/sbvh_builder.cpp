@@ -21,13 +21,14 @@ constexpr std::size_t kClippedPolygonRoom = std::tuple_size_v<ClippedPolygon>;
 struct SpatialSplit {
   int axis = -1;
   float plane = 0.0f;
-  float cost = 0.0f;                ///< area(left) * count(left) + area(right) * count(right)
+  float cost = 0.0f;                ///< area(left) * blocks(left) + area(right) * blocks(right)
   std::uint32_t duplicates = 0;     ///< references that would go to both sides
 };
 
 class SbvhBuilder {
  public:
-  SbvhBuilder(const Scene& scene, const SbvhOptions& config) : scene_(scene), config_(config) {}
+  SbvhBuilder(const Scene& scene, const SbvhOptions& config)
+      : scene_(scene), config_(config), block_shift_(__builtin_ctz(config.block_size)) {}
 
   BuildTree run() {
     PrimRefs refs = scene_.build_references();
@@ -55,7 +56,7 @@ class SbvhBuilder {
       median(refs, left, right);
     } else {
       const AABB bounds = bounds_of(refs);
-      const BinnedSplit object = find_binned_split(refs, config_.bin_count);
+      const BinnedSplit object = find_binned_split(refs, config_.bin_count, block_shift_);
       SpatialSplit spatial;
       const bool overlapping = object.axis < 0 || intersection(object.left, object.right).surface_area() >
                                                       config_.overlap_alpha * root_area_;
@@ -64,7 +65,7 @@ class SbvhBuilder {
                                live_ + spatial.duplicates <= budget_;
       const float best = use_spatial ? spatial.cost : object.cost;
       if ((object.axis < 0 && !use_spatial) ||
-          sah_prefers_leaf(n, bounds.surface_area(), best, config_.max_leaf_size, config_.costs)) {
+          sah_prefers_leaf(n, bounds.surface_area(), best, config_.max_leaf_size, config_.costs, block_shift_)) {
         if (n <= config_.max_leaf_size) return make_leaf(node, refs);
         median(refs, left, right);
       } else if (!use_spatial || !split_spatially(refs, spatial, left, right)) {
@@ -147,7 +148,7 @@ class SbvhBuilder {
       for (std::uint32_t k = bins - 1; k > 0; --k) {
         acc.extend(box[k]);
         count += exit[k];
-        right_cost[k] = acc.surface_area() * static_cast<float>(count);
+        right_cost[k] = acc.surface_area() * blocks(count);
         right_count[k] = count;
       }
       AABB left;
@@ -156,7 +157,7 @@ class SbvhBuilder {
         left.extend(box[k]);
         left_count += enter[k];
         if (left_count == 0 || right_count[k + 1] == 0) continue;
-        const float cost = left.surface_area() * static_cast<float>(left_count) + right_cost[k + 1];
+        const float cost = left.surface_area() * blocks(left_count) + right_cost[k + 1];
         if (best.axis < 0 || cost < best.cost) {
           best.axis = axis;
           best.plane = plane[k + 1];
@@ -195,8 +196,14 @@ class SbvhBuilder {
     return true;
   }
 
+  /// References counted in started blocks of 2^block_shift_, as the object splits count them.
+  float blocks(std::uint32_t count) const {
+    return static_cast<float>((count + (1u << block_shift_) - 1) >> block_shift_);
+  }
+
   const Scene& scene_;
   const SbvhOptions& config_;
+  int block_shift_ = 0;
   BuildTree tree_;
   float root_area_ = 0.0f;
   std::size_t budget_ = 0;
@@ -208,6 +215,9 @@ class SbvhBuilder {
 BuildTree build_sbvh(const Scene& scene, const SbvhOptions& config) {
   if (config.bin_count < 2 || config.bin_count > kMaxBins) {
     throw Error("SBVH: bin count " + std::to_string(config.bin_count) + " is outside 2.." + std::to_string(kMaxBins));
+  }
+  if (config.block_size == 0 || config.block_size > 64 || (config.block_size & (config.block_size - 1)) != 0) {
+    throw Error("SBVH: block size " + std::to_string(config.block_size) + " is not a power of two in 1..64");
   }
   return SbvhBuilder(scene, config).run();
 }

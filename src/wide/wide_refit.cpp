@@ -84,6 +84,7 @@ void WideBvh::refit() {
   }
   if (width_ == 8) {
     refit_nodes(nodes8_);
+    compress_nodes();
   } else {
     refit_nodes(nodes4_);
   }

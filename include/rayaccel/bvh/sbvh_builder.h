@@ -19,6 +19,9 @@ struct SbvhOptions {
   float max_growth = 1.3f;          ///< memory bound: references never exceed this multiple of the primitive count
   float overlap_alpha = 1e-5f;      ///< spatial splits are tried when the best object split's children overlap by
                                     ///< more than this fraction of the root's area (the paper's alpha)
+  /// References a leaf tests at once (a power of two, 1..64): the SAH charges `costs.intersection` per started block
+  /// of this many, as BinnedSahOptions::block_size does.
+  std::uint32_t block_size = 1;
 };
 
 /// Builds over the scene's references. Triangles are clipped; for spheres and user primitives only object splits
