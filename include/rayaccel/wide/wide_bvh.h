@@ -59,13 +59,19 @@ struct WideBvhOptions {
   /// on the conference room; 4 lies between the conference room and Sponza (potentials and runs: BENCHMARKS.md,
   /// "Option choices").
   float presplit_threshold = 4.0f;
+  /// Spatial splits in the binary build (Stich, Friedrich & Dietrich 2009; bvh/sbvh_builder.h) with at most this
+  /// fraction of extra references, 0..1; 0 builds with object splits only (after pre-splitting, above). Above 0 it
+  /// replaces pre-splitting, and the binary build is the sequential SBVH builder: faster secondary rays on Crytek
+  /// Sponza, slower on the conference room, builds 7-20x longer (docs/benchmark-history.md, step 33).
+  float spatial = 0.0f;
   /// How the binary tree is gathered into wide nodes: by the least SAH cost, which measured faster on three of the
   /// four shared scenes and a third fewer nodes (docs/benchmark-history.md, step 31).
   WideCollapse collapse = WideCollapse::sah;
   /// Single rays traverse a copy of the eight-wide nodes in 128 bytes each (CompressedNode8: child boxes on an
   /// 8-bit grid, rounded outward) instead of 256. Packets, generalized rays and the other queries keep the full
   /// nodes, so memory grows by half the nodes' bytes. Ignored for four-wide nodes and for trees whose boxes the
-  /// grid cannot hold (beyond about 2^120; the build statistic compressed_nodes is then 0).
+  /// grid cannot hold (beyond about 2^120; the build statistic compressed_nodes is then 0). Slower where the nodes
+  /// stay in the caches, as on the four shared scenes (docs/benchmark-history.md, step 32).
   bool compress = false;
 };
 
