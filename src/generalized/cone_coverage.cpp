@@ -16,7 +16,6 @@ using detail::dcross;
 using detail::ddot;
 using detail::dsub;
 
-double cross2(const PlanePoint& p, const PlanePoint& q) { return p.x * q.y - p.y * q.x; }
 double dot2(const PlanePoint& p, const PlanePoint& q) { return p.x * q.x + p.y * q.y; }
 
 /// Signed solid angle of the triangle (origin, p, q) of the plane, where it lies inside the circle of radius r:

@@ -9,8 +9,6 @@ namespace rayaccel::generalized {
 
 namespace {
 
-double cross2(const PlanePoint& p, const PlanePoint& q) { return p.x * q.y - p.y * q.x; }
-
 /// Twice the signed area.
 double signed_area(std::span<const PlanePoint> poly) {
   double sum = 0.0;

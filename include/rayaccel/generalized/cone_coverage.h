@@ -17,6 +17,10 @@ struct PlanePoint {
   double x = 0.0, y = 0.0;
 };
 
+/// The z component of the cross product of two plane points (twice the signed area of the triangle they make with
+/// the origin).
+inline double cross2(const PlanePoint& p, const PlanePoint& q) { return p.x * q.y - p.y * q.x; }
+
 /// Signed solid angle seen from the apex (at unit height above the origin of the plane) of the part of the triangle
 /// (origin, p, q) inside the circle of radius tan(half_angle): positive when p -> q turns counter-clockwise. Summed
 /// over a closed boundary it gives the solid angle of the enclosed region inside the cone.
