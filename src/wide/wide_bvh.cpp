@@ -6,6 +6,7 @@
 #include <string>
 
 #include "rayaccel/bvh/presplit.h"
+#include "rayaccel/bvh/reinsertion.h"
 #include "rayaccel/bvh/sbvh_builder.h"
 #include "rayaccel/core/error.h"
 
@@ -15,22 +16,30 @@ void WideBvh::build(const Scene& scene) {
   // Computed for every triangle scene (it is cheap: BENCHMARKS.md), so the statistic is reported whatever the options.
   const bool triangles = scene.kind() == PrimitiveKind::triangles;
   const double potential = triangles ? presplit_potential(scene) : 0.0;
+  BuildTree tree;
+  std::uint32_t split_triangles = 0;
   if (config_.spatial > 0.0f && triangles) {
     const SbvhOptions sbvh{.max_leaf_size = config_.binary.max_leaf_size,
                            .costs = config_.binary.costs,
                            .bin_count = config_.binary.bin_count,
                            .max_growth = 1.0f + config_.spatial,
                            .block_size = config_.binary.block_size};
-    build_from(scene, build_sbvh(scene, sbvh));
+    tree = build_sbvh(scene, sbvh);
   } else if (config_.presplit > 0.0f && triangles && potential >= config_.presplit_threshold) {
     PresplitResult presplit = presplit_references(scene, {.fraction = config_.presplit});
-    BuildTree tree = build_binned_sah(std::move(presplit.refs), config_.binary);
+    tree = build_binned_sah(std::move(presplit.refs), config_.binary);
     tree.spatial_splits = true;
-    build_from(scene, tree);
-    split_triangles_ = presplit.split_triangles;
+    split_triangles = presplit.split_triangles;
   } else {
-    build_from(scene, build_binned_sah(scene.build_references(), config_.binary));
+    tree = build_binned_sah(scene.build_references(), config_.binary);
   }
+  if (config_.reinsert > 0) {
+    reinsert_nodes(tree, {.costs = config_.binary.costs,
+                          .block_size = config_.binary.block_size,
+                          .max_batches = config_.reinsert});
+  }
+  build_from(scene, tree);
+  split_triangles_ = split_triangles;
   presplit_potential_ = potential;
 }
 

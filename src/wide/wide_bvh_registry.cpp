@@ -30,6 +30,8 @@ const OptionTable<WideBvhOptions>& wide_bvh_option_table() {
     t.real("spatial", &O::spatial, RealRange::closed(0.0, 1.0),
            "spatial splits in the binary build (SBVH, Stich et al. 2009): extra references as a fraction of the "
            "triangle count; 0 turns them off; above 0 replaces presplit");
+    t.integer("reinsert", &O::reinsert, 0, 64,
+              "rounds of insertion-based optimisation of the binary tree (Bittner et al. 2013); 0 turns it off");
     t.choice("collapse", &O::collapse, {{"area", WideCollapse::area}, {"sah", WideCollapse::sah}},
              "how binary nodes are gathered into wide ones: sah (the least SAH cost, Ylitie et al. 2017's dynamic "
              "programme) or area (open the child of largest surface area)");
@@ -54,7 +56,8 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 (or its "
       "AVX-512 build) when the CPU has it",
       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0",
-       "bvh_wide:presplit_threshold=0", "bvh_wide:collapse=area", "bvh_wide:compress=1", "bvh_wide:spatial=0.2"});
+       "bvh_wide:presplit_threshold=0", "bvh_wide:collapse=area", "bvh_wide:compress=1", "bvh_wide:spatial=0.2",
+       "bvh_wide:reinsert=0"});
   info.saved_spec = wide_bvh_file_spec;
   registry.push_back(std::move(info));
 }

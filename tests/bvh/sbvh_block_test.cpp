@@ -25,7 +25,7 @@ double mean_leaf_size(const BuildTree& tree) {
 
 TEST(SbvhBlocks, BlockCostingMakesFullerLeaves) {
   const Scene scene = make_builtin_scene("default");
-  SbvhOptions single{.max_leaf_size = 8, .max_growth = 1.2f};
+  SbvhOptions single{.max_leaf_size = 8, .costs = {}, .bin_count = 16, .max_growth = 1.2f};
   SbvhOptions blocks = single;
   blocks.block_size = 4;
   const BuildTree by_reference = build_sbvh(scene, single);
@@ -40,7 +40,9 @@ TEST(SbvhBlocks, ABlockSizeOutsidePowersOfTwoIsRefused) {
   const Scene scene = make_builtin_scene("default");
   for (std::uint32_t size : {0u, 3u, 128u}) {
     try {
-      build_sbvh(scene, SbvhOptions{.block_size = size});
+      SbvhOptions options;
+      options.block_size = size;
+      build_sbvh(scene, options);
       FAIL() << "block size " << size << " was accepted";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("block size " + std::to_string(size)), std::string::npos) << e.what();

@@ -64,6 +64,10 @@ struct WideBvhOptions {
   /// replaces pre-splitting, and the binary build is the sequential SBVH builder: faster secondary rays on Crytek
   /// Sponza, slower on the conference room, builds 7-20x longer (docs/benchmark-history.md, step 33).
   float spatial = 0.0f;
+  /// Rounds of insertion-based optimisation of the binary tree before the collapse (Bittner, Hapala & Havran 2013;
+  /// bvh/reinsertion.h), 0..64; 0 leaves the builder's tree as it is. 16 measured 11-19% faster rays on the
+  /// conference room, within noise elsewhere, for 4-37% more build time (docs/benchmark-history.md, step 34).
+  std::uint32_t reinsert = 16;
   /// How the binary tree is gathered into wide nodes: by the least SAH cost, which measured faster on three of the
   /// four shared scenes and a third fewer nodes (docs/benchmark-history.md, step 31).
   WideCollapse collapse = WideCollapse::sah;
