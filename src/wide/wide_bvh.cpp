@@ -54,7 +54,6 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   select_kernels(config_.width);  // a CPU without AVX2 gets four-wide nodes, also for width=8
   nodes4_.clear();
   nodes8_.clear();
-  compressed_nodes8_.clear();
   blocks_.clear();
   block_count_ = 0;
   depth_ = 0;
@@ -92,7 +91,6 @@ void WideBvh::build_from(const Scene& scene, const BuildTree& tree) {
   if (depth_ > kBvhMaxDepth) {
     throw Error("wide BVH: tree depth " + std::to_string(depth_) + " exceeds the traversal stack bound");
   }
-  compress_nodes();
 }
 
 bool WideBvh::runs_eight_wide() { return simd::best_isa(simd::Isa::avx2) != simd::Isa::sse2; }
@@ -129,8 +127,7 @@ double wide_sah_cost(const NodeArray<W>& nodes, std::uint32_t root, const SahCos
 }  // namespace
 
 std::size_t WideBvh::memory_bytes() const {
-  return nodes4_.size() * sizeof(Node<4>) + nodes8_.size() * sizeof(Node<8>) +
-         compressed_nodes8_.size() * sizeof(CompressedNode8) + blocks_.size() * sizeof(simd::Triangle4);
+  return nodes4_.size() * sizeof(Node<4>) + nodes8_.size() * sizeof(Node<8>) + blocks_.size() * sizeof(simd::Triangle4);
 }
 
 std::vector<BuildStatistic> WideBvh::build_statistics() const {
@@ -141,7 +138,6 @@ std::vector<BuildStatistic> WideBvh::build_statistics() const {
   return {{"width", double(width_)},
           {"avx512_kernels", isa_ == simd::Isa::avx512 ? 1.0 : 0.0},
           {"nodes", double(nodes4_.size() + nodes8_.size())},
-          {"compressed_nodes", double(compressed_nodes8_.size())},
           {"triangle4_blocks", double(blocks_.size())},
           {"block_fill", blocks_.empty() ? 0.0 : double(used_lanes) / (4.0 * blocks_.size())},
           {"depth", double(depth_)},

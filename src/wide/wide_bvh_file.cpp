@@ -124,7 +124,6 @@ void WideBvh::load(const std::filesystem::path& path, const Scene& scene) {
   };
   nodes4_.clear();
   nodes8_.clear();
-  compressed_nodes8_.clear();
   if (width_ == 8) {
     read_array(nodes8_, h.node_count);
   } else {
@@ -142,7 +141,6 @@ void WideBvh::load(const std::filesystem::path& path, const Scene& scene) {
     root_ = kEmptyChild;
     throw Error(where + "the stored tree is invalid: " + problems.front());
   }
-  compress_nodes();  // this object's option, not the file's: the file holds the full nodes
 }
 
 }  // namespace rayaccel::wide

@@ -35,9 +35,6 @@ const OptionTable<WideBvhOptions>& wide_bvh_option_table() {
     t.choice("collapse", &O::collapse, {{"area", WideCollapse::area}, {"sah", WideCollapse::sah}},
              "how binary nodes are gathered into wide ones: sah (the least SAH cost, Ylitie et al. 2017's dynamic "
              "programme) or area (open the child of largest surface area)");
-    t.boolean("compress", &O::compress,
-           "single rays traverse a copy of the eight-wide nodes in half the bytes (child boxes on an 8-bit grid, "
-           "rounded outward); ignored for four-wide nodes");
     t.rule([](const O& o) {
       if (o.width == 4 && o.isa != WideIsa::best) {
         throw Error("bvh_wide: isa=avx2 applies to the eight-wide kernels, not width=4");
@@ -56,8 +53,7 @@ void register_wide_bvh(std::vector<AcceleratorInfo>& registry) {
       "4- or 8-wide SIMD BVH (SoA child boxes, Triangle4 leaves) collapsed from a binned SAH tree; AVX2 (or its "
       "AVX-512 build) when the CPU has it",
       {"bvh_wide", "bvh_wide:width=4", "bvh_wide:width=8,isa=avx2", "bvh_wide:presplit=0",
-       "bvh_wide:presplit_threshold=0", "bvh_wide:collapse=area", "bvh_wide:compress=1", "bvh_wide:spatial=0.2",
-       "bvh_wide:reinsert=0"});
+       "bvh_wide:presplit_threshold=0", "bvh_wide:collapse=area", "bvh_wide:spatial=0.2", "bvh_wide:reinsert=0"});
   info.saved_spec = wide_bvh_file_spec;
   registry.push_back(std::move(info));
 }

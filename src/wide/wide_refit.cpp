@@ -84,7 +84,6 @@ void WideBvh::refit() {
   }
   if (width_ == 8) {
     refit_nodes(nodes8_);
-    compress_nodes();
   } else {
     refit_nodes(nodes4_);
   }

@@ -120,30 +120,12 @@ struct BoxKernel {
   RAYACCEL_LANE_INLINE static unsigned intersect_lanes(const Packet& ray, const Node& node, float t_far_scalar,
                                                        F& t_entry) {
     static_assert(sizeof(node.bounds[0][0]) == kWidth * sizeof(float), "one child box a lane");
-    return clip_lanes(ray, t_far_scalar, t_entry, FloatPlanes{reinterpret_cast<const char*>(node.bounds), ray});
-  }
-
-  /// The planes of SoA float boxes, for clip_lanes (written to an out parameter, as widen() is, for the ABI).
-  struct FloatPlanes {
-    const char* planes;
-    const Packet& ray;
-    RAYACCEL_LANE_INLINE void operator()(int a, bool far, F& plane) const {
-      plane = S::load(reinterpret_cast<const float*>(planes + (far ? ray.far_bytes[a] : ray.near_bytes[a])));
-    }
-  };
-
-  /// The slab test over the boxes whose planes `plane(axis, far, out)` writes in lanes (the ray's near or far plane on
-  /// that axis, chosen by the sign of its direction): the lane mask of the boxes met, entry distances to t_entry.
-  /// Its bound holds for any float boxes, so a node layout that decodes its boxes exactly into floats shares it.
-  template <class PlaneLoader>
-  RAYACCEL_LANE_INLINE static unsigned clip_lanes(const Packet& ray, float t_far_scalar, F& t_entry,
-                                                  const PlaneLoader& plane) {
     F t_near = ray.t_min;
     F t_far = S::set1(t_far_scalar);
+    const char* planes = reinterpret_cast<const char*>(node.bounds);
     for (int a = 0; a < 3; ++a) {
-      F near_plane, far_plane;
-      plane(a, false, near_plane);
-      plane(a, true, far_plane);
+      const F near_plane = S::load(reinterpret_cast<const float*>(planes + ray.near_bytes[a]));
+      const F far_plane = S::load(reinterpret_cast<const float*>(planes + ray.far_bytes[a]));
       const F t0 = S::mul(S::sub(near_plane, ray.origin[a]), ray.inv_direction[a]);
       const F t1 = S::mul(S::sub(far_plane, ray.origin[a]), ray.inv_direction[a]);
       t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound (second operand)

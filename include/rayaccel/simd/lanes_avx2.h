@@ -5,8 +5,6 @@
 
 #include <immintrin.h>
 
-#include <cstdint>
-
 #include "rayaccel/simd/isa.h"
 #include "rayaccel/simd/lane_set.h"
 #include "rayaccel/simd/triangle4.h"
@@ -46,17 +44,6 @@ struct Avx8 {
     const __m256i ids = _mm256_set_m128i(_mm_load_si128(reinterpret_cast<const __m128i*>(blocks[1]->prim_id)),
                                          _mm_load_si128(reinterpret_cast<const __m128i*>(blocks[0]->prim_id)));
     return _mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1)));
-  }
-  // For compressed wide nodes (wide/compressed_box_kernel.h):
-  /// Eight bytes from p (any alignment) as the floats 0..255.
-  RAYACCEL_AVX2 static F load_u8(const std::uint8_t* p) {
-    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
-  }
-  /// One bit a lane: the 32-byte aligned p[lane] differs from `unused`.
-  RAYACCEL_AVX2 static unsigned lanes_not_equal(const std::uint32_t* p, std::uint32_t unused) {
-    const __m256i equal = _mm256_cmpeq_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(p)),
-                                             _mm256_set1_epi32(static_cast<int>(unused)));
-    return static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(equal))) ^ 0xFFu;
   }
   // For the packet traversal (one child box against eight rays, wide_bvh_packets.cpp):
   RAYACCEL_AVX2 static F broadcast(const float* p) { return _mm256_broadcast_ss(p); }

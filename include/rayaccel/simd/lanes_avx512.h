@@ -18,10 +18,6 @@ struct Avx8Masked : Avx8 {
 #define RAYACCEL_AVX512 RAYACCEL_TARGET_AVX512
   /// One bit a lane: a <= b (ordered, as Avx8::le then movemask).
   RAYACCEL_AVX512 static unsigned le_mask(F a, F b) { return _cvtmask8_u32(_mm256_cmp_ps_mask(a, b, _CMP_LE_OS)); }
-  /// As Avx8's, by one compare into a mask register.
-  RAYACCEL_AVX512 static unsigned lanes_not_equal(const std::uint32_t* p, std::uint32_t unused) {
-    return _cvtmask8_u32(_mm256_cmpneq_epi32_mask(load_u32(p), _mm256_set1_epi32(static_cast<int>(unused))));
-  }
   RAYACCEL_AVX512 static I load_u32(const std::uint32_t* p) {  ///< 32-byte aligned
     return _mm256_load_si256(reinterpret_cast<const __m256i*>(p));
   }

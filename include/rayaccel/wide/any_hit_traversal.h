@@ -7,12 +7,14 @@
 
 namespace rayaccel::wide {
 
-template <class Kernel, class NodeT, class Stats>
-RAYACCEL_LANE_INLINE void WideBvh::traverse_any_hit(const NodeT* const node_at, std::uint32_t start,
+template <class Kernel, class Stats>
+RAYACCEL_LANE_INLINE void WideBvh::traverse_any_hit(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
                                                      const PreparedRay& ray, Hit& hit, Stats& stats) const {
+  constexpr int W = Kernel::kWidth;
   if (start == kEmptyChild) return;
   // The arrays' addresses and the ray's prepared forms in locals, as traverse_closest sets them up: kept as plain
   // locals in each loop (not a shared struct) so the compiler keeps them in registers in both hot loops.
+  const Node<W>* const node_at = nodes.data();
   const simd::Triangle4* const blocks = blocks_.data();
   const simd::TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
@@ -29,12 +31,12 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse_any_hit(const NodeT* const node_at, 
     if (ref & kLeafBit) {
       if (intersect_leaf<typename Kernel::Lanes, true>(ref, blocks, triangle_packet, ray, hit, stats)) return;
     } else {
-      const NodeT& node = node_at[ref];
+      const Node<W>& node = node_at[ref];
       typename Kernel::F entry;  // entry distances, which any-hit does not use
       const unsigned mask = Kernel::intersect_lanes(box_packet, node, t_far, entry);
       if (mask) {
         for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
-        ref = push_in_octant_order<typename Kernel::Lanes>(node, mask, child_order(node, octant), pending, count);
+        ref = push_in_octant_order<typename Kernel::Lanes>(node, mask, node.order[octant], pending, count);
         continue;
       }
     }

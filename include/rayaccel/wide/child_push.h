@@ -21,8 +21,8 @@ RAYACCEL_LANE_CODE_BEGIN
 /// which is not left on the stack. Writes eight entries from stack[top] (the stack has that room). A pushed entry
 /// distance is its lane's, at most 7 ulps lower (the sort key's, simd::Avx8Masked::lane_keys): a lower entry only
 /// keeps a subtree longer, so no hit is lost.
-template <class S, class NodeT>
-RAYACCEL_LANE_INLINE std::uint32_t push_sorted(const NodeT& node, unsigned mask, const typename S::F& t_entry,
+template <class S>
+RAYACCEL_LANE_INLINE std::uint32_t push_sorted(const Node<8>& node, unsigned mask, const typename S::F& t_entry,
                                                StackEntry* stack, int& top) {
   using I = typename S::I;
   const I sorted = S::sort_descending(S::lane_keys(t_entry, mask));
@@ -40,10 +40,9 @@ RAYACCEL_LANE_INLINE std::uint32_t push_sorted(const NodeT& node, unsigned mask,
 /// to be entered now, and pushes the others onto pending[count ..] so that the next in order is on top. With AVX-512
 /// lanes the lane indices are unpacked in a register, the children permuted into order and packed by vpcompressd
 /// (writes eight entries); otherwise a loop over the W positions.
-template <class S, class NodeT>
-RAYACCEL_LANE_INLINE std::uint32_t push_in_octant_order(const NodeT& node, unsigned mask, unsigned order,
+template <class S, int W>
+RAYACCEL_LANE_INLINE std::uint32_t push_in_octant_order(const Node<W>& node, unsigned mask, unsigned order,
                                                         std::uint32_t* pending, int& count) {
-  constexpr int W = static_cast<int>(sizeof(NodeT::child) / sizeof(std::uint32_t));
   unsigned ranked = 0;  // bit p: the child at position p was met
   if constexpr (W == 8 && requires { requires S::kMaskRegisters; }) {
     const typename S::I lanes = S::order_lanes(order);

@@ -18,8 +18,6 @@
 #include "rayaccel/simd/dispatch.h"
 #include "rayaccel/simd/triangle_blocks.h"
 #include "rayaccel/wide/child_push.h"
-#include "rayaccel/wide/compressed_box_kernel.h"
-#include "rayaccel/wide/compressed_node.h"
 #include "rayaccel/wide/wide_node.h"
 
 namespace rayaccel::wide {
@@ -71,17 +69,10 @@ struct WideBvhOptions {
   /// How the binary tree is gathered into wide nodes: by the least SAH cost, which measured faster on three of the
   /// four shared scenes and a third fewer nodes (docs/benchmark-history.md, step 31).
   WideCollapse collapse = WideCollapse::sah;
-  /// Single rays traverse a copy of the eight-wide nodes in 128 bytes each (CompressedNode8: child boxes on an
-  /// 8-bit grid, rounded outward) instead of 256. Packets, generalized rays and the other queries keep the full
-  /// nodes, so memory grows by half the nodes' bytes. Ignored for four-wide nodes and for trees whose boxes the
-  /// grid cannot hold (beyond about 2^120; the build statistic compressed_nodes is then 0). Slower where the nodes
-  /// stay in the caches, as on the four shared scenes (docs/benchmark-history.md, step 32).
-  bool compress = false;
 };
 
 template <int W>
 using NodeArray = std::vector<Node<W>, HugePageAllocator<Node<W>>>;
-using CompressedNodeArray = std::vector<CompressedNode8, HugePageAllocator<CompressedNode8>>;
 
 /// The wide BVH's options: key, member, range and doc of each (the registry's options, their parsing and checks).
 const OptionTable<WideBvhOptions>& wide_bvh_option_table();
@@ -143,11 +134,7 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
     // Eight lanes (AVX2 or its AVX-512 build) test eight-wide nodes, four SSE2 lanes four-wide ones.
     simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
       if constexpr (Lanes::kWidth == 8) {
-        if (!compressed_nodes8_.empty()) {
-          traverse<CompressedBoxKernel<Lanes>, AnyHit>(compressed_nodes8_, start, ray, hit, stats);
-        } else {
-          traverse<simd::BoxKernel<Lanes>, AnyHit>(nodes8_, start, ray, hit, stats);
-        }
+        traverse<simd::BoxKernel<Lanes>, AnyHit>(nodes8_, start, ray, hit, stats);
       } else {
         traverse<simd::BoxKernel<Lanes>, AnyHit>(nodes4_, start, ray, hit, stats);
       }
@@ -203,12 +190,6 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   AABB leaf_box(std::uint32_t ref) const;
   template <int W>
   void refit_nodes(NodeArray<W>& nodes);
-  /// compress=1 with eight-wide nodes: compressed_nodes8_ from nodes8_ (left empty when a node does not fit the
-  /// grid); after every build, refit and load.
-  void compress_nodes();
-  /// validate()'s checks of compressed_nodes8_ against nodes8_: same children and orders, grid boxes containing the
-  /// children's boxes.
-  void validate_compressed(std::vector<std::string>& problems) const;
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
@@ -222,36 +203,33 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// Asks for the four cache lines of a child met by the box test (an inner node's 256 bytes, or a leaf's first
   /// blocks) before it is visited, as Embree's traversal does: incoherent rays spend most of their time waiting for
   /// nodes, and the children pushed now are popped after the memory has had time to answer.
-  template <class NodeT>
-  RAYACCEL_LANE_INLINE static void prefetch_child(const NodeT* nodes, const simd::Triangle4* blocks,
+  template <int W>
+  RAYACCEL_LANE_INLINE static void prefetch_child(const Node<W>* nodes, const simd::Triangle4* blocks,
                                                   std::uint32_t ref) {
-    if (ref & kLeafBit) {
-      const char* p = reinterpret_cast<const char*>(blocks + leaf_first_block(ref));
-      for (int line = 0; line < 4; ++line) __builtin_prefetch(p + 64 * line);
-    } else {
-      const char* p = reinterpret_cast<const char*>(nodes + ref);
-      for (std::size_t line = 0; line < sizeof(NodeT) / 64; ++line) __builtin_prefetch(p + 64 * line);
-    }
+    const char* p = (ref & kLeafBit) ? reinterpret_cast<const char*>(blocks + leaf_first_block(ref))
+                                     : reinterpret_cast<const char*>(nodes + ref);
+    __builtin_prefetch(p);
+    __builtin_prefetch(p + 64);
+    __builtin_prefetch(p + 128);
+    __builtin_prefetch(p + 192);
   }
   /// Closest hit: children near-first by their entry distances (below); any hit: in the node's order for the ray's
   /// octant, leaving at the first hit (wide/any_hit_traversal.h).
-  /// `nodes` is the array of the node layout Kernel tests (Node<W> for simd::BoxKernel, CompressedNode8 for
-  /// CompressedBoxKernel).
-  template <class Kernel, bool AnyHit, class Nodes, class Stats>
-  RAYACCEL_LANE_INLINE void traverse(const Nodes& nodes, std::uint32_t start, const PreparedRay& ray, Hit& hit,
-                                     Stats& stats) const {
+  template <class Kernel, bool AnyHit, class Stats>
+  RAYACCEL_LANE_INLINE void traverse(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                     const PreparedRay& ray, Hit& hit, Stats& stats) const {
     if constexpr (AnyHit) {
-      traverse_any_hit<Kernel>(nodes.data(), start, ray, hit, stats);
+      traverse_any_hit<Kernel>(nodes, start, ray, hit, stats);
     } else {
-      traverse_closest<Kernel>(nodes.data(), start, ray, hit, stats);
+      traverse_closest<Kernel>(nodes, start, ray, hit, stats);
     }
   }
-  template <class Kernel, class NodeT, class Stats>
-  RAYACCEL_LANE_INLINE void traverse_closest(const NodeT* node_at, std::uint32_t start, const PreparedRay& ray,
-                                             Hit& hit, Stats& stats) const;
-  template <class Kernel, class NodeT, class Stats>
-  RAYACCEL_LANE_INLINE void traverse_any_hit(const NodeT* node_at, std::uint32_t start, const PreparedRay& ray,
-                                             Hit& hit, Stats& stats) const;
+  template <class Kernel, class Stats>
+  RAYACCEL_LANE_INLINE void traverse_closest(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                             const PreparedRay& ray, Hit& hit, Stats& stats) const;
+  template <class Kernel, class Stats>
+  RAYACCEL_LANE_INLINE void traverse_any_hit(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
+                                             const PreparedRay& ray, Hit& hit, Stats& stats) const;
   template <class Lanes, bool AnyHit, class Stats>
   RAYACCEL_LANE_INLINE bool intersect_leaf(std::uint32_t ref, const simd::Triangle4* blocks,
                                            const simd::TrianglePacket<Lanes>& packet, const PreparedRay& ray,
@@ -270,7 +248,6 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   // Large arrays on transparent huge pages where the system has them (fewer page faults and TLB misses).
   NodeArray<4> nodes4_;
   NodeArray<8> nodes8_;
-  CompressedNodeArray compressed_nodes8_;  ///< compress=1: nodes8_ compressed, for single rays
   /// Every lane written by fill_leaves.
   std::vector<simd::Triangle4, UninitializedHugePageAllocator<simd::Triangle4>> blocks_;
   std::uint32_t block_count_ = 0;  ///< build-time only: blocks reserved by emit_leaf, allocated after emit
@@ -319,13 +296,14 @@ bool WideBvh::intersect_leaf_prims(std::uint32_t ref, const PreparedRay& ray, Hi
   return found;
 }
 
-template <class Kernel, class NodeT, class Stats>
-RAYACCEL_LANE_INLINE void WideBvh::traverse_closest(const NodeT* const node_at, std::uint32_t start,
+template <class Kernel, class Stats>
+RAYACCEL_LANE_INLINE void WideBvh::traverse_closest(const NodeArray<Kernel::kWidth>& nodes, std::uint32_t start,
                                                      const PreparedRay& ray, Hit& hit, Stats& stats) const {
   constexpr int W = Kernel::kWidth;
   if (start == kEmptyChild) return;
-  // The arrays' addresses in locals (the nodes' comes as one): read through the vectors, they would be reloaded at
-  // every step, as the stores to the stack and the hit might change them for all the compiler knows.
+  // The arrays' addresses in locals: read through the vectors, they would be reloaded at every step, as the stores
+  // to the stack and the hit might change them for all the compiler knows.
+  const Node<W>* const node_at = nodes.data();
   const simd::Triangle4* const blocks = blocks_.data();
   const simd::TrianglePacket<typename Kernel::Lanes> triangle_packet(ray);
   const typename Kernel::Packet box_packet = Kernel::prepare(ray);
@@ -341,7 +319,7 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse_closest(const NodeT* const node_at, 
     if (ref & kLeafBit) {
       intersect_leaf<typename Kernel::Lanes, false>(ref, blocks, triangle_packet, ray, hit, stats);
     } else {
-      const NodeT& node = node_at[ref];
+      const Node<W>& node = node_at[ref];
       typename Kernel::F entry_lanes;
       unsigned mask = Kernel::intersect_lanes(box_packet, node, hit.t, entry_lanes);
       alignas(32) float entry[W];
