@@ -35,7 +35,9 @@ RAYACCEL_LANE_INLINE void WideBvh::traverse_any_hit(const NodeArray<Kernel::kWid
       typename Kernel::F entry;  // entry distances, which any-hit does not use
       const unsigned mask = Kernel::intersect_lanes(box_packet, node, t_far, entry);
       if (mask) {
-        for (unsigned m = mask; m; m &= m - 1) prefetch_child(node_at, blocks, node.child[__builtin_ctz(m)]);
+        for (unsigned m = mask; m; m &= m - 1) {
+          prefetch_child_unbranched(node_at, blocks, node.child[__builtin_ctz(m)]);
+        }
         ref = push_in_octant_order<typename Kernel::Lanes>(node, mask, node.order[octant], pending, count);
         continue;
       }

@@ -213,6 +213,24 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
     __builtin_prefetch(p + 128);
     __builtin_prefetch(p + 192);
   }
+  /// prefetch_child without a branch on the leaf bit: both addresses are computed and one is chosen by a mask (the
+  /// other is never dereferenced). The any-hit traversal's loop over every child met uses it, where the leaf bit of
+  /// each child is data the branch predictor cannot learn (docs/benchmark-history.md, step 36); the closest-hit
+  /// traversal keeps the branch, not measured with this form.
+  template <int W>
+  RAYACCEL_LANE_INLINE static void prefetch_child_unbranched(const Node<W>* nodes, const simd::Triangle4* blocks,
+                                                             std::uint32_t ref) {
+    const auto leaf = reinterpret_cast<std::uintptr_t>(blocks) +
+                      std::uintptr_t{leaf_first_block(ref)} * sizeof(simd::Triangle4);
+    const auto inner = reinterpret_cast<std::uintptr_t>(nodes) + std::uintptr_t{ref & ~kLeafBit} * sizeof(Node<W>);
+    static_assert(kLeafBit == 1u << 31, "the leaf bit is the top bit");
+    const std::uintptr_t is_leaf = std::uintptr_t{0} - std::uintptr_t{ref >> 31};  // all ones for a leaf
+    const char* p = reinterpret_cast<const char*>((leaf & is_leaf) | (inner & ~is_leaf));
+    __builtin_prefetch(p);
+    __builtin_prefetch(p + 64);
+    __builtin_prefetch(p + 128);
+    __builtin_prefetch(p + 192);
+  }
   /// Closest hit: children near-first by their entry distances (below); any hit: in the node's order for the ray's
   /// octant, leaving at the first hit (wide/any_hit_traversal.h).
   template <class Kernel, bool AnyHit, class Stats>
