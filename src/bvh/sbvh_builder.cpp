@@ -1,8 +1,8 @@
 // SBVH (Stich, Friedrich, Dietrich 2009): binned object splits plus binned spatial splits with triangle clipping,
 // under a reference-growth budget. As in Embree's fast spatial builder (Wald, Woop et al. 2014), the spatial bins are
-// costed from the triangle's own edges (no polygon clipping until a split is made), each node's share of the budget
-// goes to its children in proportion to their references (so the tree does not depend on which subtree is built
-// first), and large subtrees are built in parallel, each into a tree of its own that is then spliced into its parent's.
+// costed from the triangle's own edges (no polygon clipping until a split is made), and large subtrees are built in
+// parallel, each into a tree of its own that is then spliced into its parent's; two halves built in parallel share
+// the budget in proportion to their references, so the tree does not depend on the number of threads.
 #include "rayaccel/bvh/sbvh_builder.h"
 
 #include <tbb/parallel_invoke.h>
