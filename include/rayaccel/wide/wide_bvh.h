@@ -206,12 +206,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <int W>
   RAYACCEL_LANE_INLINE static void prefetch_child(const Node<W>* nodes, const simd::Triangle4* blocks,
                                                   std::uint32_t ref) {
-    const char* p = (ref & kLeafBit) ? reinterpret_cast<const char*>(blocks + leaf_first_block(ref))
-                                     : reinterpret_cast<const char*>(nodes + ref);
-    __builtin_prefetch(p);
-    __builtin_prefetch(p + 64);
-    __builtin_prefetch(p + 128);
-    __builtin_prefetch(p + 192);
+    prefetch_four_lines((ref & kLeafBit) ? reinterpret_cast<const char*>(blocks + leaf_first_block(ref))
+                                         : reinterpret_cast<const char*>(nodes + ref));
   }
   /// prefetch_child without a branch on the leaf bit: both addresses are computed and one is chosen by a mask (the
   /// other is never dereferenced). The any-hit traversal's loop over every child met uses it, where the leaf bit of
@@ -225,7 +221,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
     const auto inner = reinterpret_cast<std::uintptr_t>(nodes) + std::uintptr_t{ref & ~kLeafBit} * sizeof(Node<W>);
     static_assert(kLeafBit == 1u << 31, "the leaf bit is the top bit");
     const std::uintptr_t is_leaf = std::uintptr_t{0} - std::uintptr_t{ref >> 31};  // all ones for a leaf
-    const char* p = reinterpret_cast<const char*>((leaf & is_leaf) | (inner & ~is_leaf));
+    prefetch_four_lines(reinterpret_cast<const char*>((leaf & is_leaf) | (inner & ~is_leaf)));
+  }
+  RAYACCEL_LANE_INLINE static void prefetch_four_lines(const char* p) {
     __builtin_prefetch(p);
     __builtin_prefetch(p + 64);
     __builtin_prefetch(p + 128);
