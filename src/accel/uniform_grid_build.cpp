@@ -145,10 +145,12 @@ CellLists bin_primitives(const Scene& scene, std::span<const PrimRef> refs, cons
 
 bool primitive_overlaps_cell(const Scene& scene, std::uint32_t id, const AABB& cell, float pad, bool exact) {
   const AABB grown{cell.lo - Vec3{pad}, cell.hi + Vec3{pad}};
-  if (!grown.overlaps(scene.primitive_bounds(id))) return false;
-  if (!exact || scene.kind() != PrimitiveKind::triangles) return true;
-  const auto& t = scene.triangle(id);
-  return triangle_overlaps_box(t[0], t[1], t[2], grown);
+  if (scene.kind() != PrimitiveKind::triangles) return grown.overlaps(scene.primitive_bounds(id));
+  // A triangle's vertices are read once, for its box and for the exact test (the scene stores no boxes).
+  if (!scene.is_valid(id)) return false;
+  const auto t = scene.triangle(id);
+  if (!grown.overlaps(AABB::of_point(t[0]).extend(t[1]).extend(t[2]))) return false;
+  return !exact || triangle_overlaps_box(t[0], t[1], t[2], grown);
 }
 
 void validate_cell_lists(const Scene& scene, std::span<const std::uint32_t> offsets,

@@ -1,11 +1,12 @@
-// Scene construction: validates primitives, derives per-primitive bounds and counts invalid and degenerate ones;
-// triangles come from an owned mesh or from the caller's buffers.
+// Scene construction: validates primitives, marks the valid ones and counts invalid and degenerate ones; triangles
+// come from an owned mesh or from the caller's buffers and are stored once (no per-triangle copies or boxes).
 #include "rayaccel/scene/scene.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -67,8 +68,7 @@ Scene Scene::from_mesh(TriangleMesh mesh, std::string name) {
     }
   }
   s.mesh_ = std::move(mesh);
-  s.triangle_vertices_.resize(s.mesh_.triangles.size());
-  s.prim_bounds_.resize(s.mesh_.triangles.size());
+  s.valid_.resize(s.mesh_.triangles.size());
   derive_all(0, s.mesh_.triangles.size(), [&](std::uint32_t i) { s.derive_triangle(i); });
   s.finish_bounds();
   return s;
@@ -111,7 +111,7 @@ Scene Scene::from_buffers(const MeshBuffers& buffers, std::string name) {
       }
     }
   }
-  s.prim_bounds_.resize(buffers.triangle_count);
+  s.valid_.resize(buffers.triangle_count);
   derive_all(0, buffers.triangle_count, [&](std::uint32_t i) { s.derive_triangle(i); });
   s.finish_bounds();
   return s;
@@ -123,6 +123,7 @@ Scene Scene::from_spheres(std::vector<Sphere> spheres, std::string name) {
   s.kind_ = PrimitiveKind::spheres;
   s.spheres_ = std::move(spheres);
   s.prim_bounds_.resize(s.spheres_.size());
+  s.valid_.resize(s.spheres_.size());
   for (std::size_t i = 0; i < s.spheres_.size(); ++i) {
     const Sphere& sp = s.spheres_[i];
     if (is_finite(sp.center) && std::isfinite(sp.radius) && sp.radius > 0.0f) {
@@ -130,6 +131,7 @@ Scene Scene::from_spheres(std::vector<Sphere> spheres, std::string name) {
       // Widen by one relative ulp-ish margin so float rounding of center +- radius never cuts the surface.
       const Vec3 pad = abs(sp.center) * 0x1p-22f + Vec3{sp.radius * 0x1p-22f};
       s.prim_bounds_[i] = AABB(sp.center - r - pad, sp.center + r + pad);
+      s.valid_[i] = 1;
     }
   }
   s.finish_bounds();
@@ -145,27 +147,21 @@ Scene Scene::from_user(UserPrimitives prims, std::string name) {
   s.kind_ = PrimitiveKind::user;
   s.user_ = std::move(prims);
   s.prim_bounds_.resize(s.user_.count);
+  s.valid_.resize(s.user_.count);
   for (std::uint32_t i = 0; i < s.user_.count; ++i) {
     const AABB b = s.user_.bounds(i);
-    if (b.is_finite() && !b.is_empty()) s.prim_bounds_[i] = b;
+    if (b.is_finite() && !b.is_empty()) {
+      s.prim_bounds_[i] = b;
+      s.valid_[i] = 1;
+    }
   }
   s.finish_bounds();
   return s;
 }
 
-std::array<Vec3, 3> Scene::source_triangle(std::uint32_t id) const {
-  if (borrowed_) return buffer_triangle(id);
-  const auto& idx = mesh_.triangles[id];
-  return {mesh_.vertices[idx[0]], mesh_.vertices[idx[1]], mesh_.vertices[idx[2]]};
-}
-
 void Scene::derive_triangle(std::uint32_t id) {
   const auto [a, b, c] = source_triangle(id);
-  const bool valid = is_finite(a) && is_finite(b) && is_finite(c) && !has_zero_area(a, b, c);
-  prim_bounds_[id] = valid ? AABB::of_point(a).extend(b).extend(c) : AABB::empty();
-  // Owned meshes keep a tracing copy; an excluded triangle's is a point, which the watertight test never hits.
-  // Borrowed ones test is_valid() instead (see intersect()).
-  if (!borrowed_) triangle_vertices_[id] = valid ? std::array<Vec3, 3>{a, b, c} : std::array<Vec3, 3>{};
+  valid_[id] = is_finite(a) && is_finite(b) && is_finite(c) && !has_zero_area(a, b, c) ? 1 : 0;
 }
 
 void Scene::finish_bounds() {
@@ -178,8 +174,8 @@ void Scene::finish_bounds() {
       tbb::blocked_range<std::uint32_t>(0, primitive_count(), 8192), Totals{},
       [&](const tbb::blocked_range<std::uint32_t>& range, Totals t) {
         for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-          if (!prim_bounds_[i].is_empty()) {
-            t.bounds.extend(prim_bounds_[i]);
+          if (is_valid(i)) {
+            t.bounds.extend(primitive_bounds(i));
             continue;
           }
           // Excluded: a degenerate triangle has finite vertices in the mesh; an invalid primitive does not.
@@ -204,11 +200,29 @@ void Scene::finish_bounds() {
 }
 
 PrimRefs Scene::build_references(std::size_t extra_capacity) const {
+  // In parallel, in id order: each block of ids counts its valid primitives, a prefix sum gives where its
+  // references start, and each block then writes its own (the same array on any number of threads).
+  constexpr std::uint32_t kBlock = 16384;
+  const std::uint32_t count = primitive_count();
+  const std::uint32_t blocks = (count + kBlock - 1) / kBlock;
+  std::vector<std::uint32_t> starts(blocks + 1, 0);
+  tbb::parallel_for(std::uint32_t{0}, blocks, [&](std::uint32_t block) {
+    const std::uint32_t end = std::min(count, (block + 1) * kBlock);
+    std::uint32_t valid = 0;
+    for (std::uint32_t i = block * kBlock; i < end; ++i) valid += valid_[i];
+    starts[block + 1] = valid;
+  });
+  for (std::uint32_t block = 0; block < blocks; ++block) starts[block + 1] += starts[block];
   PrimRefs refs;
-  refs.reserve(prim_bounds_.size() - invalid_count_ - degenerate_count_ + extra_capacity);
-  for (std::uint32_t i = 0; i < prim_bounds_.size(); ++i) {
-    if (!prim_bounds_[i].is_empty()) refs.push_back({prim_bounds_[i], i});
-  }
+  refs.reserve(valid_count() + extra_capacity);
+  refs.resize(valid_count());
+  tbb::parallel_for(std::uint32_t{0}, blocks, [&](std::uint32_t block) {
+    const std::uint32_t end = std::min(count, (block + 1) * kBlock);
+    std::uint32_t out = starts[block];
+    for (std::uint32_t i = block * kBlock; i < end; ++i) {
+      if (is_valid(i)) refs[out++] = {primitive_bounds(i), i};
+    }
+  });
   return refs;
 }
 
@@ -220,7 +234,7 @@ int Scene::hull_points(std::uint32_t id, std::array<Vec3, 8>& out) const {
     out[2] = t[2];
     return 3;
   }
-  const AABB& b = prim_bounds_[id];
+  const AABB b = primitive_bounds(id);
   for (int corner = 0; corner < 8; ++corner) {
     out[corner] = {(corner & 1) ? b.hi.x : b.lo.x, (corner & 2) ? b.hi.y : b.lo.y, (corner & 4) ? b.hi.z : b.lo.z};
   }
@@ -241,7 +255,7 @@ void Scene::set_vertices(std::span<const Vec3> vertices) {
 
 void Scene::buffers_changed() {
   if (!borrowed_) throw Error("buffers_changed: the scene owns its mesh; use set_vertices()");
-  derive_all(0, prim_bounds_.size(), [&](std::uint32_t i) { derive_triangle(i); });
+  derive_all(0, valid_.size(), [&](std::uint32_t i) { derive_triangle(i); });
   finish_bounds();
 }
 
@@ -261,8 +275,7 @@ std::uint32_t Scene::append_triangles(std::span<const Vec3> vertices,
   }
   mesh_.vertices.insert(mesh_.vertices.end(), vertices.begin(), vertices.end());
   mesh_.triangles.insert(mesh_.triangles.end(), tris.begin(), tris.end());
-  triangle_vertices_.resize(mesh_.triangles.size());
-  prim_bounds_.resize(mesh_.triangles.size());
+  valid_.resize(mesh_.triangles.size());
   derive_all(first_id, mesh_.triangles.size(), [&](std::uint32_t i) { derive_triangle(i); });
   finish_bounds();
   return first_id;
@@ -270,8 +283,7 @@ std::uint32_t Scene::append_triangles(std::span<const Vec3> vertices,
 
 std::size_t Scene::memory_bytes() const {
   return mesh_.vertices.size() * sizeof(Vec3) + mesh_.triangles.size() * sizeof(mesh_.triangles[0]) +
-         triangle_vertices_.size() * sizeof(triangle_vertices_[0]) + spheres_.size() * sizeof(Sphere) +
-         prim_bounds_.size() * sizeof(AABB);
+         spheres_.size() * sizeof(Sphere) + prim_bounds_.size() * sizeof(AABB) + valid_.size() * sizeof(valid_[0]);
 }
 
 }  // namespace rayaccel

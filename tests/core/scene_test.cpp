@@ -203,6 +203,58 @@ TEST(Scene, UserPrimitivesNeedCallbacksAndValidBounds) {
   EXPECT_EQ(s.build_references()[0].prim_id, 0u);
 }
 
+/// A strip of `n` triangles over shared vertices in which every seventh triangle is a point (degenerate) and every
+/// thirteenth has a NaN vertex: invalid primitives spread over many of build_references()' blocks of ids.
+TriangleMesh long_strip_with_holes(std::uint32_t n) {
+  TriangleMesh m;
+  for (std::uint32_t i = 0; i < n / 2 + 2; ++i) {
+    m.vertices.push_back({static_cast<float>(i), 0.0f, 0.0f});
+    m.vertices.push_back({static_cast<float>(i), 1.0f, 0.5f * static_cast<float>(i % 3)});
+  }
+  const auto nan_vertex = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.push_back({kNaN, 0.0f, 0.0f});
+  for (std::uint32_t t = 0; t < n; ++t) {
+    const std::uint32_t a = t, b = t + 1, c = t + 2;
+    if (t % 7 == 3) {
+      m.triangles.push_back({a, a, a});
+    } else if (t % 13 == 5) {
+      m.triangles.push_back({a, nan_vertex, c});
+    } else {
+      m.triangles.push_back({a, b, c});
+    }
+  }
+  return m;
+}
+
+TEST(Scene, ReferencesOfManyBlocksComeInIdOrderWithTheirVerticesBounds) {
+  const std::uint32_t n = 100003;  // several blocks of ids and a partial last one
+  const Scene s = Scene::from_mesh(long_strip_with_holes(n));
+  const PrimRefs refs = s.build_references(5);
+  ASSERT_EQ(refs.size(), s.valid_count());
+  EXPECT_GE(refs.capacity(), refs.size() + 5) << "the extra capacity asked for";
+  std::size_t next = 0;
+  for (std::uint32_t id = 0; id < n; ++id) {
+    const bool expect_valid = id % 7 != 3 && id % 13 != 5;
+    ASSERT_EQ(s.is_valid(id), expect_valid) << id;
+    if (!expect_valid) continue;
+    ASSERT_LT(next, refs.size());
+    ASSERT_EQ(refs[next].prim_id, id);
+    const auto [a, b, c] = s.triangle(id);
+    ASSERT_EQ(refs[next].bounds, AABB::of_point(a).extend(b).extend(c)) << id;
+    ++next;
+  }
+  EXPECT_EQ(next, refs.size());
+}
+
+TEST(Scene, HoldsTheMeshOnceAndAByteATriangle) {
+  // No per-triangle vertex copy and no per-triangle boxes: the mesh's arrays and one validity byte a triangle.
+  const TriangleMesh mesh = long_strip_with_holes(1000);
+  const Scene s = Scene::from_mesh(mesh);
+  EXPECT_EQ(s.memory_bytes(), mesh.vertices.size() * sizeof(Vec3) + mesh.triangles.size() * (3 * 4 + 1));
+  const Scene spheres = Scene::from_spheres({{{0, 0, 0}, 1.0f}, {{2, 0, 0}, 1.0f}});
+  EXPECT_EQ(spheres.memory_bytes(), 2 * (sizeof(Sphere) + sizeof(AABB) + 1));
+}
+
 TEST(Scene, TriangleNormalAndHullPoints) {
   const Scene s = Scene::from_mesh(mixed_mesh());
   const Ray ray{{0.2f, 0.2f, 1.0f}, 0.0f, {0, 0, -1}, kInf};

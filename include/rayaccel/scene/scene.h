@@ -37,7 +37,7 @@ class Scene {
   /// A triangle scene that owns a copy of `mesh` (moved in when given an rvalue).
   static Scene from_mesh(TriangleMesh mesh, std::string name = "mesh");
   /// A triangle scene over the caller's buffers, which it reads in place and never copies: the scene keeps only
-  /// per-triangle bounds (24 bytes a triangle). Lifetime rule: the buffers must stay alive, at the same addresses,
+  /// one validity byte a triangle. Lifetime rule: the buffers must stay alive, at the same addresses,
   /// for as long as the scene or any accelerator built over it is used, and must not change meanwhile; after
   /// writing new vertex positions in place, call buffers_changed() on the scene, then refit or rebuild the
   /// accelerators. Indices must not change at all (make a new scene). Throws Error for a null pointer with a
@@ -50,7 +50,7 @@ class Scene {
   const std::string& name() const { return name_; }
   void set_name(std::string name) { name_ = std::move(name); }
   PrimitiveKind kind() const { return kind_; }
-  std::uint32_t primitive_count() const { return static_cast<std::uint32_t>(prim_bounds_.size()); }
+  std::uint32_t primitive_count() const { return static_cast<std::uint32_t>(valid_.size()); }
   std::uint32_t invalid_count() const { return invalid_count_; }
   /// Primitives that are neither invalid nor degenerate: those build_references() returns.
   std::uint32_t valid_count() const { return primitive_count() - invalid_count_ - degenerate_count_; }
@@ -58,10 +58,16 @@ class Scene {
   /// Bounds of the valid primitives (empty when there are none).
   const AABB& bounds() const { return bounds_; }
 
-  bool is_valid(std::uint32_t id) const { return !prim_bounds_[id].is_empty(); }
-  /// Bounds of one primitive; empty for an invalid or degenerate one.
-  const AABB& primitive_bounds(std::uint32_t id) const { return prim_bounds_[id]; }
-  Vec3 primitive_centroid(std::uint32_t id) const { return prim_bounds_[id].center(); }
+  bool is_valid(std::uint32_t id) const { return valid_[id] != 0; }
+  /// Bounds of one primitive; empty for an invalid or degenerate one. A triangle's are computed from its vertices
+  /// (the scene stores no per-triangle boxes).
+  AABB primitive_bounds(std::uint32_t id) const {
+    if (kind_ != PrimitiveKind::triangles) return prim_bounds_[id];
+    if (!is_valid(id)) return AABB::empty();
+    const auto [a, b, c] = source_triangle(id);
+    return AABB::of_point(a).extend(b).extend(c);
+  }
+  Vec3 primitive_centroid(std::uint32_t id) const { return primitive_bounds(id).center(); }
   /// One reference per valid primitive, in id order: the input of every builder.
   /// One reference per valid primitive, in id order. `extra_capacity` more references fit without reallocation (for
   /// a caller that appends, as pre-splitting does).
@@ -75,12 +81,8 @@ class Scene {
   bool intersect(std::uint32_t id, const PreparedRay& ray, Hit& hit) const {
     switch (kind_) {
       case PrimitiveKind::triangles: {
-        if (borrowed_) {
-          if (!is_valid(id)) return false;
-          const std::array<Vec3, 3> t = buffer_triangle(id);
-          return intersect_triangle(ray, t[0], t[1], t[2], id, hit);
-        }
-        const auto& t = triangle_vertices_[id];
+        if (!is_valid(id)) return false;
+        const std::array<Vec3, 3> t = source_triangle(id);
         return intersect_triangle(ray, t[0], t[1], t[2], id, hit);
       }
       case PrimitiveKind::spheres: {
@@ -102,8 +104,7 @@ class Scene {
   std::size_t vertex_count() const { return borrowed_ ? buffers_.vertex_count : mesh_.vertices.size(); }
   /// The three vertices of triangle id as traced (all zero for an invalid or degenerate triangle).
   std::array<Vec3, 3> triangle(std::uint32_t id) const {
-    if (!borrowed_) return triangle_vertices_[id];
-    return is_valid(id) ? buffer_triangle(id) : std::array<Vec3, 3>{};
+    return is_valid(id) ? source_triangle(id) : std::array<Vec3, 3>{};
   }
   /// Replaces the vertex positions (same count and topology) and updates every derived bound: the input of refit.
   /// Throws Error for a scene over caller buffers (write them, then call buffers_changed()).
@@ -144,7 +145,11 @@ class Scene {
     return out;
   }
   /// The three vertices of triangle id as given (owned mesh or caller buffers), before validation.
-  std::array<Vec3, 3> source_triangle(std::uint32_t id) const;
+  std::array<Vec3, 3> source_triangle(std::uint32_t id) const {
+    if (borrowed_) return buffer_triangle(id);
+    const auto& idx = mesh_.triangles[id];
+    return {mesh_.vertices[idx[0]], mesh_.vertices[idx[1]], mesh_.vertices[idx[2]]};
+  }
   void derive_triangle(std::uint32_t id);
   void finish_bounds();
 
@@ -153,10 +158,10 @@ class Scene {
   TriangleMesh mesh_;
   MeshBuffers buffers_;  // with borrowed_: the caller's arrays, triangle_stride resolved (never 0)
   bool borrowed_ = false;
-  std::vector<std::array<Vec3, 3>> triangle_vertices_;  // owned meshes only
   std::vector<Sphere> spheres_;
   UserPrimitives user_;
-  std::vector<AABB> prim_bounds_;
+  std::vector<std::uint8_t> valid_;  // one byte per primitive: 1 when neither invalid nor degenerate
+  std::vector<AABB> prim_bounds_;    // spheres and user primitives only (a triangle's box comes from its vertices)
   AABB bounds_;
   std::uint32_t invalid_count_ = 0;
   std::uint32_t degenerate_count_ = 0;
