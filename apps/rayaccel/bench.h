@@ -29,7 +29,7 @@ namespace rayaccel::cli {
 /// kinds are the diffuse, shadow, occlusion and light rays again, each traced under a QueryContext that skips the
 /// primitive its origin lies on (what a renderer knows of a secondary ray; not in the default set, since their
 /// answers differ from the plain kinds' only where a ray would re-hit its own surface). bench_command.cpp's footer
-/// gives the lengths.
+/// gives the lengths. beam: the primary rays traced by beams (generalized::trace_beams()), not in the default set.
 enum class RayKind {
   primary,
   diffuse,
@@ -41,11 +41,14 @@ enum class RayKind {
   diffuse_skip,
   shadow_skip,
   occlusion_skip,
-  light_skip
+  light_skip,
+  beam
 };
 const char* to_string(RayKind kind);
-/// Packet kinds are traced eight rays at a time and take no statistics.
-inline bool is_packet_kind(RayKind kind) { return kind == RayKind::packet || kind == RayKind::light_packet; }
+/// Packet kinds are traced eight rays at a time (beam: by beams, whole images) and take no statistics.
+inline bool is_packet_kind(RayKind kind) {
+  return kind == RayKind::packet || kind == RayKind::light_packet || kind == RayKind::beam;
+}
 /// The _skip kinds are traced under a QueryContext and take no statistics either.
 inline bool is_skip_kind(RayKind kind) {
   return kind == RayKind::diffuse_skip || kind == RayKind::shadow_skip || kind == RayKind::occlusion_skip ||
@@ -59,6 +62,8 @@ struct Workload {
   RayKind kind = RayKind::primary;
   std::vector<Ray> rays;
   std::vector<std::uint32_t> skip;  ///< the _skip kinds: per ray, the primitive its origin lies on; else empty
+  const Scene* scene = nullptr;      ///< beam: the scene, for the structure's beams
+  CameraFrame frame;                 ///< beam: the image whose pixel rays `rays` are, row by row
   bool any_hit() const {
     return kind == RayKind::shadow || kind == RayKind::occlusion || kind == RayKind::light ||
            kind == RayKind::light_packet || kind == RayKind::shadow_skip || kind == RayKind::occlusion_skip ||

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "bench.h"
+#include "rayaccel/generalized/generalized_rays.h"
 
 namespace rayaccel::cli {
 
@@ -68,11 +69,30 @@ bool agrees_as_foreign(const Hit& got, const Hit& want, float relative) {
   if (got.found() != want.found()) return false;
   return !got.found() || std::fabs(got.t - want.t) <= relative * std::fabs(want.t);
 }
+
+/// The beam kind's whole image by the structure's beams (default options), or, for a structure without them,
+/// intersect_packets() over the rays in row order.
+void trace_by_beams(const Accelerator& accel, const Workload& w, std::span<Hit> hits) {
+  if (!generalized::supports_generalized_rays(accel)) {
+    accel.intersect_packets(w.rays, hits);
+    return;
+  }
+  const auto beams = generalized::make_generalized_rays(accel, *w.scene);
+  const CameraFrame& frame = w.frame;
+  const generalized::PixelRays pixels{frame.width, frame.height,
+                                      [&frame](float x, float y) { return frame.ray_at(x, y); }, w.rays};
+  beams->trace_beams(pixels, generalized::BeamOptions{}, hits);
+}
+
 }  // namespace
 
 void trace_rays(const Accelerator& accel, const Workload& w, std::span<const Ray> rays,
                 std::span<const std::uint32_t> skip, std::span<Hit> hits, std::span<std::uint8_t> occluded,
                 bool packets) {
+  if (w.kind == RayKind::beam && packets) {  // whole images only (the rays are the workload's)
+    trace_by_beams(accel, w, hits);
+    return;
+  }
   QueryContext context;
   context.skip_primitive = skip;
   if (w.any_hit() && packets) {

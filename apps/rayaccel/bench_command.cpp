@@ -158,7 +158,10 @@ Command add_bench_command(CLI::App& root) {
       "Not in the default set: diffuse_skip, shadow_skip, occlusion_skip and light_skip = the same rays traced\n"
       "with a QueryContext that skips the primitive each ray starts on (Embree: an intersection filter that\n"
       "rejects it, its scene committed with RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION, the row then named\n"
-      "embree:filter=1 for every kind); no nodes/prims column either.\n"
+      "embree:filter=1 for every kind); no nodes/prims column either. beam = the primary rays traced by the\n"
+      "structure's beams, the whole image in one call (bvh_wide: frustum beams, the rays left over in 4x2 packets\n"
+      "from each tile's entry point; bvh, kdtree: the double-precision beams); structures without beams and\n"
+      "Embree trace the same rays eight at a time in row order (Embree: rtcIntersect8); no nodes/prims column.\n"
       "Memory: 'memory MB' is the structure's own data; 'with input MB' adds the input its queries read (the\n"
       "scene's arrays for rayaccel's structures; for Embree, the vertex and index buffers it was handed).");
   return {app, [args, threads, heat_max] { return run_bench(*args, threads->count() > 0, heat_max->count() > 0); }};

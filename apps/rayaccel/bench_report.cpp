@@ -21,6 +21,7 @@ const char* to_string(RayKind kind) {
     case RayKind::shadow_skip: return "shadow_skip";
     case RayKind::occlusion_skip: return "occlusion_skip";
     case RayKind::light_skip: return "light_skip";
+    case RayKind::beam: return "beam";
   }
   return "?";
 }

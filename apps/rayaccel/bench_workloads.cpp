@@ -1,5 +1,6 @@
 // The bench's ray sets: primary rays, then diffuse bounces, shadow, occlusion and light rays from their hits, and the
-// primary and light rays in 4 x 2 pixel tiles for the packet kinds (lengths and offsets below).
+// primary and light rays in 4 x 2 pixel tiles for the packet kinds, the primary rays again for beams (lengths and
+// offsets below).
 #include <algorithm>
 #include <cmath>
 
@@ -54,14 +55,14 @@ std::vector<RayKind> parse_kinds(const std::string& text) {
   constexpr RayKind kAll[] = {RayKind::primary,      RayKind::diffuse,     RayKind::shadow,
                               RayKind::occlusion,    RayKind::light,       RayKind::packet,
                               RayKind::light_packet, RayKind::diffuse_skip, RayKind::shadow_skip,
-                              RayKind::occlusion_skip, RayKind::light_skip};
+                              RayKind::occlusion_skip, RayKind::light_skip, RayKind::beam};
   std::vector<RayKind> kinds;
   for (const auto& item : split_list(text)) {
     const auto known = std::find_if(std::begin(kAll), std::end(kAll), [&](RayKind k) { return item == to_string(k); });
     if (known == std::end(kAll)) {
       throw UsageError("--rays: unknown ray kind '" + item +
                        "' (known: primary, diffuse, shadow, occlusion, light, packet, light_packet, diffuse_skip, "
-                       "shadow_skip, occlusion_skip, light_skip)");
+                       "shadow_skip, occlusion_skip, light_skip, beam)");
     }
     if (std::find(kinds.begin(), kinds.end(), *known) == kinds.end()) kinds.push_back(*known);
   }
@@ -96,6 +97,11 @@ std::vector<Workload> make_workloads(const Scene& scene, const Camera& camera, c
         w.rays = light_rays(scene, primary, primary_hits, light_position(scene, camera));
         break;
       case RayKind::packet: w.rays = in_tile_order(primary, resolution); break;
+      case RayKind::beam:
+        w.rays = primary;
+        w.scene = &scene;
+        w.frame = camera.frame(resolution, resolution);
+        break;
       case RayKind::light_packet:
         // The light rays of the primary hits taken in tile order: the same rays as `light`, neighbours together.
         w.rays = light_rays(scene, in_tile_order(primary, resolution), in_tile_order(primary_hits, resolution),

@@ -134,7 +134,8 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     settings.beams = generalized::BeamOptions{.tile_size = args.beam_tile,
                                               .min_tile = args.beam_min_tile,
                                               .entry_points = !args.beam_root,
-                                              .frustum = !args.beam_exact_tests};
+                                              .frustum = !args.beam_exact_tests,
+                                              .packets = !args.beam_one_by_one};
   }
   progress.stage(fmt::format("rendering {}x{} {}", width, height, args.mode));
   settings.progress = [&progress](float fraction) { progress.update(fraction); };
@@ -152,10 +153,12 @@ int run_render(const RenderArgs& args, bool fov_given, bool threads_given, bool 
     const double pixels = static_cast<double>(width) * height;
     fmt::print("beams: {} beams; per pixel {:.3f} beam volume tests, {:.3f} beam/primitive tests, {:.3f} ray node "
                "visits, {:.3f} ray/primitive tests; pixels {:.1f}% missed by beams, {:.1f}% one primitive test, "
-               "{:.1f}% on a proven front triangle, {:.1f}% traced from entry points\n",
+               "{:.1f}% on a proven front triangle, {:.1f}% traced from entry points ({:.1f}% in packets, which "
+               "take no counts; {:.2f}% of them traced again alone for a possible tie)\n",
                b.beams, b.beam_node_tests / pixels, b.beam_primitive_tests / pixels, b.ray_node_visits / pixels,
                b.ray_primitive_tests / pixels, 100.0 * b.pixels_missed / pixels, 100.0 * b.pixels_one_primitive / pixels,
-               100.0 * b.pixels_in_front / pixels, 100.0 * b.pixels_traced / pixels);
+               100.0 * b.pixels_in_front / pixels, 100.0 * b.pixels_traced / pixels,
+               100.0 * b.pixels_in_packets / pixels, 100.0 * b.pixels_retraced / pixels);
   }
   return 0;
 }
@@ -214,6 +217,9 @@ Command add_render_command(CLI::App& root) {
   app->add_flag("--beam-exact-tests", args->beam_exact_tests,
                "--beams over bvh_wide: the double-precision beam/box and beam/triangle tests instead of the SIMD "
                "frustum (for comparison)");
+  app->add_flag("--beam-one-by-one", args->beam_one_by_one,
+               "--beams over bvh_wide: trace the undecided rays one by one, with node and primitive counts, instead "
+               "of in 4 x 2 packets");
   app->add_flag("--beam-root", args->beam_root,
                "--beams: trace the undecided rays from the root instead of the tile's entry point (for comparison)");
   app->add_option("--cones", args->cones,

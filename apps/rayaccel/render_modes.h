@@ -49,6 +49,7 @@ struct RenderArgs {
   bool beam_root = false;
   int beam_min_tile = 2;
   bool beam_exact_tests = false;
+  bool beam_one_by_one = false;
   // cone effects
   std::string cones;
   int cone_samples = 64;

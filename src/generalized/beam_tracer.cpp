@@ -20,6 +20,8 @@ const OptionTable<BeamOptions>& beam_option_table() {
     t.boolean("entry_points", &O::entry_points, "rays left over start at the tile's entry node (false: the root)");
     t.boolean("frustum", &O::frustum,
               "bvh_wide: SIMD float frustum culling with entry points (false: the double-precision beam tests)");
+    t.boolean("packets", &O::packets,
+              "bvh_wide frustum beams: the rays left over in 4 x 2 packets (false: one by one, with statistics)");
     t.integer("max_front_candidates", &O::max_front_candidates, 0, std::numeric_limits<int>::max(),
               "the in-front proof is tried only up to this many candidates");
     t.real("max_candidates_per_pixel", &O::max_candidates_per_pixel, RealRange::at_least(0.0),
@@ -43,34 +45,50 @@ BeamStats& BeamStats::operator+=(const BeamStats& o) {
   pixels_one_primitive += o.pixels_one_primitive;
   pixels_in_front += o.pixels_in_front;
   pixels_traced += o.pixels_traced;
+  pixels_in_packets += o.pixels_in_packets;
+  pixels_retraced += o.pixels_retraced;
   return *this;
 }
 
 namespace beam_detail {
 
-std::vector<Ray> pixel_rays(const PixelRays& pixels) {
+std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made) {
   if (pixels.width <= 0 || pixels.height <= 0) {
     throw Error("beams: image size " + std::to_string(pixels.width) + "x" + std::to_string(pixels.height) +
                 " is not positive");
   }
   if (!pixels.ray_at) throw Error("beams: no ray_at function for the pixels");
-  std::vector<Ray> rays(std::size_t(pixels.width) * std::size_t(pixels.height));
-  // Rows in parallel (the trace is timed with them): ray_at may be called from several threads at once.
-  const Ray first = pixels.ray_at(0.5f, 0.5f);
+  const std::size_t count = std::size_t(pixels.width) * std::size_t(pixels.height);
+  const bool given = !pixels.rays.empty();
+  if (given && pixels.rays.size() != count) {
+    throw Error("beams: " + std::to_string(pixels.rays.size()) + " rays given for " + std::to_string(count) +
+                " pixels");
+  }
+  if (!given) made.resize(count);
+  const std::span<const Ray> rays = given ? pixels.rays : std::span<const Ray>(made);
+  // Rows in parallel (a trace is timed with them): ray_at may be called from several threads at once.
+  const Vec3 origin = given ? rays[0].origin : pixels.ray_at(0.5f, 0.5f).origin;
   std::atomic<bool> shared_origin = true;
   ::rayaccel::detail::parallel_for_rays(std::size_t(pixels.height), [&](std::size_t begin, std::size_t end) {
     bool same = true;
     for (std::size_t y = begin; y < end; ++y) {
-      Ray* row = rays.data() + y * std::size_t(pixels.width);
+      const std::size_t row = y * std::size_t(pixels.width);
       for (int x = 0; x < pixels.width; ++x) {
-        row[x] = pixels.ray_at(float(x) + 0.5f, float(y) + 0.5f);
-        same = same && row[x].origin == first.origin;
+        if (!given) made[row + std::size_t(x)] = pixels.ray_at(float(x) + 0.5f, float(y) + 0.5f);
+        same = same && rays[row + std::size_t(x)].origin == origin;
       }
     }
     if (!same) shared_origin = false;
   });
   if (!shared_origin) throw Error("beams: the pixel rays do not share one origin");
   return rays;
+}
+
+void check_hits_size(const PixelRays& pixels, std::size_t hits) {
+  const std::size_t count = std::size_t(pixels.width) * std::size_t(pixels.height);
+  if (hits != count) {
+    throw Error("beams: " + std::to_string(hits) + " hits for " + std::to_string(count) + " pixels");
+  }
 }
 
 }  // namespace beam_detail

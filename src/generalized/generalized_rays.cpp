@@ -21,11 +21,12 @@ template <class View>
 class ViewRays final : public GeneralizedRays {
  public:
   ViewRays(View view, const Scene& scene) : view_(view), scene_(scene) {}
-  BeamResult trace_beams(const PixelRays& pixels, const BeamOptions& config) const override {
-    if constexpr (requires { trace_frustum_beams(view_, pixels, config); }) {
-      if (config.frustum) return trace_frustum_beams(view_, pixels, config);
+  using GeneralizedRays::trace_beams;
+  BeamStats trace_beams(const PixelRays& pixels, const BeamOptions& config, std::span<Hit> hits) const override {
+    if constexpr (requires { trace_frustum_beams(view_, pixels, config, hits); }) {
+      if (config.frustum) return trace_frustum_beams(view_, pixels, config, hits);
     }
-    return generalized::trace_beams(view_, scene_, pixels, config);
+    return generalized::trace_beams(view_, scene_, pixels, config, hits);
   }
   std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryOptions& config,
                                   TraversalStats* stats) const override {

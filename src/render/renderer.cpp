@@ -187,13 +187,14 @@ RenderResult render(const Accelerator& accel, const Scene& scene, const Camera& 
     if (settings.mode == ShadingMode::heatmap) throw Error("render: beams give no per-pixel cost for a heat map");
     const auto beams = generalized::make_generalized_rays(accel, scene);
     const CameraFrame frame = camera.frame(width, height);
-    const generalized::PixelRays pixels{width, height, [&frame](float x, float y) { return frame.ray_at(x, y); }};
+    // The rays made above (made and timed apart, as for single rays): ray_at gives only the tiles' corners.
+    const generalized::PixelRays pixels{width, height, [&frame](float x, float y) { return frame.ray_at(x, y); },
+                                        rays};
     Timer timer(result.trace_milliseconds);
-    generalized::BeamResult traced = beams->trace_beams(pixels, *settings.beams);
-    hits = std::move(traced.hits);
-    result.beam_stats = traced.stats;
-    result.total.nodes_visited += traced.stats.beam_node_tests + traced.stats.ray_node_visits;
-    result.total.primitives_tested += traced.stats.beam_primitive_tests + traced.stats.ray_primitive_tests;
+    const generalized::BeamStats traced = beams->trace_beams(pixels, *settings.beams, hits);
+    result.beam_stats = traced;
+    result.total.nodes_visited += traced.beam_node_tests + traced.ray_node_visits;
+    result.total.primitives_tested += traced.beam_primitive_tests + traced.ray_primitive_tests;
   }
 
   const int chunk_rows = static_cast<int>(std::max<std::size_t>(1, kRaysPerChunk / static_cast<std::size_t>(width)));

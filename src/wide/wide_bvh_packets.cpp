@@ -8,11 +8,13 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <type_traits>
 #include <utility>
 
 #include "packet_context.h"
 #include "packet_lanes.h"
+#include "rayaccel/core/error.h"
 #include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel::wide {
@@ -20,11 +22,14 @@ namespace rayaccel::wide {
 #if RAYACCEL_AVX_KERNELS
 RAYACCEL_LANE_CODE_BEGIN
 
-template <class S, bool AnyHit, class Context>
-RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits,
-                                                Context& context) const {
+template <class S, bool AnyHit, class Context, bool kTies>
+RAYACCEL_LANE_INLINE int WideBvh::trace_packet(const Ray* packet_rays, int count, Hit* hits, Context& context,
+                                               std::uint32_t start) const {
   using F = typename S::F;
   constexpr bool kWithContext = !std::is_same_v<Context, NoPacketContext>;
+  static_assert(!(kTies && (AnyHit || kWithContext)), "ties are watched for plain closest hits only");
+  const std::uint32_t first_ref = kTies ? start : root_;
+  int ties = 0;  // kTies: the lanes a tie or the scalar kernel may have decided (intersect_packet_from())
   std::array<Ray, kPacketSize> padded;  // a last, partial packet: void rays in the missing lanes
   const Ray* rays = packet_rays;
   if (count < kPacketSize) {
@@ -44,7 +49,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
       if constexpr (kWithContext) {
         traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], context.lane(i));
       } else {
-        traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, root_, prepared[i], hit[i], none);
+        traverse<simd::BoxKernel<S>, AnyHit>(nodes8_, first_ref, prepared[i], hit[i], none);
       }
     }
   } else if (lanes_in.active) {
@@ -106,8 +111,8 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
             return changed & ~rejected;
           }
         }
-        return intersect_triangle_rays<S>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j, hit.data(),
-                                          far_bound);
+        return intersect_triangle_rays<S, kTies>(lanes_in.triangle, rays, testing, lanes_in.axes, block, j,
+                                                 hit.data(), far_bound, &ties);
       };
       // Every triangle of leaf `ref` against the rays of `leaf_rays`; returns the rays whose hit changed. Any-hit
       // drops a ray from the remaining triangles at its first hit and stops when every ray of the leaf has one.
@@ -188,7 +193,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
         };
         Entry stack[kStackSize];
         int top = 0;
-        std::uint32_t ref = root_;
+        std::uint32_t ref = first_ref;
         int lanes = lanes_in.active;
         F entry = t_min;
         for (;;) {
@@ -259,6 +264,7 @@ RAYACCEL_LANE_INLINE void WideBvh::trace_packet(const Ray* packet_rays, int coun
   // Each record written whole (Hit::finish() on a copy would store fields and then reload the record, a store
   // forwarding stall per ray); a miss is Hit{}, which is what finish() makes of it.
   for (int i = 0; i < count; ++i) hits[i] = hit[i].found() ? hit[i] : Hit{};
+  return ties & ((1 << count) - 1);
 }
 
 RAYACCEL_LANE_CODE_END
@@ -329,6 +335,25 @@ void WideBvh::intersect_packets(const QueryContext& context, std::span<const Ray
     PacketContext<static_cast<int>(detail::kPacketSize)> lanes(context, first, count);
     trace_packet<Lanes, false>(rays.data() + first, count, hits.data() + first, lanes);
   });
+}
+
+int WideBvh::intersect_packet_from(std::uint32_t start, const Ray* rays, int count, Hit* hits) const {
+  if (!has_packet_traversal() || count < 0 || count > int(detail::kPacketSize)) {
+    throw Error("intersect_packet_from: needs the packet traversal and at most 8 rays (got " + std::to_string(count) +
+                ")");
+  }
+  int ties = 0;
+#if RAYACCEL_AVX_KERNELS
+  simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
+    if constexpr (Lanes::kWidth == kPacketSize) {
+      NoPacketContext none;
+      ties = trace_packet<Lanes, false, NoPacketContext, true>(rays, count, hits, none, start);
+    }
+  });
+#else
+  (void)start, (void)rays, (void)hits;
+#endif
+  return ties;
 }
 
 void WideBvh::occluded_packets(const QueryContext& context, std::span<const Ray> rays,

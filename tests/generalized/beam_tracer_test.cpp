@@ -1,6 +1,6 @@
 // Beams against the rays they stand for: every pixel's hit from trace_beams() must be bit for bit the structure's own
 // intersect() (prim, t, u, v), over every registered variant with beams (every BVH volume and builder, the wide BVH at
-// both widths, the kd-tree), on built-in stress scenes,
+// both widths, its frustum beams' rays in packets and one by one, the kd-tree), on built-in stress scenes,
 // a mesh whose edges and vertices lie exactly on pixel rays, a scene where a front triangle hides others, and the bunny.
 #include <gtest/gtest.h>
 
@@ -20,6 +20,7 @@
 #include "rayaccel/render/camera.h"
 #include "rayaccel/scene/builtin_scenes.h"
 #include "rayaccel/scene/import.h"
+#include "rayaccel/wide/wide_bvh.h"
 
 namespace rayaccel {
 namespace {
@@ -29,7 +30,7 @@ using generalized::BeamResult;
 using generalized::PixelRays;
 
 PixelRays pixels_of(const CameraFrame& frame) {
-  return {frame.width, frame.height, [frame](float x, float y) { return frame.ray_at(x, y); }};
+  return {frame.width, frame.height, [frame](float x, float y) { return frame.ray_at(x, y); }, {}};
 }
 
 /// Counts pixels whose beam hit differs from intersect() in any bit; names the first few.
@@ -123,6 +124,7 @@ class BeamIdentity : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
   generalized::BeamStats total;
+  bool packets_run = false;  // bvh_wide with eight-wide nodes: the frustum's rays go in packets
   for (Case& c : stress_cases()) {
     auto accel = make_accelerator(GetParam());
     accel->build(c.scene);
@@ -133,10 +135,29 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
     std::vector<BeamOptions> configs = {BeamOptions{},
                                         BeamOptions{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}};
     if (GetParam().starts_with("bvh_wide")) {
+      // The frustum's rays one by one (with counts) as well as in packets, and the double-precision beams.
       for (std::size_t i = 0, n = configs.size(); i < n; ++i) {
+        configs.push_back(configs[i]);
+        configs.back().packets = false;
         configs.push_back(configs[i]);
         configs.back().frustum = false;
       }
+      const auto* wide = dynamic_cast<const wide::WideBvh*>(accel.get());
+      packets_run = packets_run || (wide != nullptr && wide->has_packet_traversal());
+    }
+    // The first configuration again with the rays and hits given by the caller (a bench's timed form).
+    std::vector<Ray> pixel_rays;
+    for (int y = 0; y < frame.height; ++y) {
+      for (int x = 0; x < frame.width; ++x) pixel_rays.push_back(frame.ray(x, y));
+    }
+    {
+      PixelRays given = pixels_of(frame);
+      given.rays = pixel_rays;
+      BeamResult result;
+      result.hits.resize(pixel_rays.size());
+      result.stats = rays->trace_beams(given, configs[0], result.hits);
+      std::string report;
+      EXPECT_EQ(differences(*accel, frame, result, report), 0) << c.name << " given rays\n" << report;
     }
     for (const BeamOptions& config : configs) {
       const BeamResult result = rays->trace_beams(pixels_of(frame), config);
@@ -154,6 +175,11 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
   EXPECT_GT(total.pixels_one_primitive, 0u);
   EXPECT_GT(total.pixels_in_front, 0u);
   EXPECT_GT(total.pixels_traced, 0u);
+  if (packets_run) {
+    // Packets traced, and rays traced again for a possible tie (the edge grid's rays through shared edges).
+    EXPECT_GT(total.pixels_in_packets, 0u);
+    EXPECT_GT(total.pixels_retraced, 0u);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Conformance, BeamIdentity, ::testing::ValuesIn(testing::generalized_specs()),
@@ -192,9 +218,21 @@ TEST(BeamTracer, RejectsBadInput) {
   const auto rays = generalized::make_generalized_rays(*accel, scene);
   const CameraFrame frame = Camera{}.frame(4, 4);
   EXPECT_THROW(rays->trace_beams(pixels_of(frame), BeamOptions{.tile_size = 0}), Error);
-  EXPECT_THROW(rays->trace_beams(PixelRays{0, 4, pixels_of(frame).ray_at}, {}), Error);
-  const PixelRays moving{4, 4, [](float x, float y) { return Ray{{x, y, 1}, 0, {0, 0, -1}}; }};
+  EXPECT_THROW(rays->trace_beams(PixelRays{0, 4, pixels_of(frame).ray_at, {}}, {}), Error);
+  const PixelRays moving{4, 4, [](float x, float y) { return Ray{{x, y, 1}, 0, {0, 0, -1}}; }, {}};
   EXPECT_THROW(rays->trace_beams(moving, {}), Error);
+  // Rays given by the caller: one a pixel, sharing one origin; hits: one a pixel.
+  std::vector<Ray> given(15, frame.ray(0, 0));
+  PixelRays short_of_one = pixels_of(frame);
+  short_of_one.rays = given;
+  EXPECT_THROW(rays->trace_beams(short_of_one, {}), Error);
+  given.push_back(frame.ray(1, 1));
+  given[3].origin.x += 1.0f;
+  PixelRays two_origins = pixels_of(frame);
+  two_origins.rays = given;
+  EXPECT_THROW(rays->trace_beams(two_origins, {}), Error);
+  std::vector<Hit> hits(15);
+  EXPECT_THROW(rays->trace_beams(pixels_of(frame), {}, hits), Error);
   auto octree = make_accelerator("octree");
   octree->build(scene);
   EXPECT_FALSE(generalized::supports_generalized_rays(*octree));

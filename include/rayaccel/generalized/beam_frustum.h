@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "rayaccel/core/ray.h"
 #include "rayaccel/core/vec3.h"
@@ -84,6 +85,42 @@ RAYACCEL_LANE_INLINE int frustum_child_lanes(const BeamFrustum& f, const wide::N
     culled = S::bit_or(culled, S::lt(S::add(v, bound), S::zero()));
   }
   return S::movemask(S::and_not(culled, nonempty));
+}
+
+/// The rays of rays[0 .. count), count <= S::kWidth, one a lane, that a float test proves f.holds() for: origin equal
+/// to the apex, t_min >= 0 and, for every plane, v = fl(n . d) > fl(2^-20 * s) + 2^-120 with s = sum_k |n_k d_k| in
+/// float (d as PreparedRay reads it). v is n . d within gamma(2) s + 3 * 2^-150 (a three-term float sum; products
+/// that underflow), far inside that margin, so n . d > 2^-50 s holds exactly, as holds() asks. A sufficient test:
+/// a lane it leaves out may still be held (holds() decides it). f must be valid().
+template <class S>
+RAYACCEL_LANE_INLINE int holds_lanes(const BeamFrustum& f, const Ray* rays, int count) {
+  using F = typename S::F;
+  constexpr int W = S::kWidth;
+  static_assert(sizeof(Ray) == 8 * sizeof(float), "Ray is the record ox oy oz t_min dx dy dz t_max");
+  alignas(32) float field[7][W] = {};
+  for (int i = 0; i < count; ++i) {
+    float r[8];
+    std::memcpy(r, &rays[i], sizeof(Ray));
+    for (int k = 0; k < 7; ++k) field[k][i] = r[k];
+  }
+  const F sign_bit = S::set1(-0.0f);
+  F held = S::ge(S::load(field[3]), S::zero());
+  F d[3];
+  for (int k = 0; k < 3; ++k) {
+    held = S::bit_and(held, S::eq(S::load(field[k]), S::set1(f.apex[k])));
+    d[k] = S::load(field[4 + k]);
+    const F subnormal = S::lt(S::and_not(sign_bit, d[k]), S::set1(0x1p-126f));  // read as zero of its sign
+    d[k] = S::and_not(S::and_not(sign_bit, subnormal), d[k]);
+  }
+  for (int p = 0; p < f.plane_count; ++p) {
+    const F t0 = S::mul(S::set1(f.normal[p][0]), d[0]);
+    const F t1 = S::mul(S::set1(f.normal[p][1]), d[1]);
+    const F t2 = S::mul(S::set1(f.normal[p][2]), d[2]);
+    const F v = S::add(S::add(t0, t1), t2);
+    const F scale = S::add(S::add(S::and_not(sign_bit, t0), S::and_not(sign_bit, t1)), S::and_not(sign_bit, t2));
+    held = S::bit_and(held, S::gt(v, S::add(S::mul(scale, S::set1(0x1p-20f)), S::set1(0x1p-120f))));
+  }
+  return S::movemask(held) & ((1 << count) - 1);
 }
 RAYACCEL_LANE_CODE_END
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,11 +27,14 @@ struct PixelRays {
   int width = 0;
   int height = 0;
   std::function<Ray(float, float)> ray_at;
+  /// Optional: every pixel's ray, row by row, ray_at(x + 0.5, y + 0.5) for pixel (x, y), made by the caller (a bench
+  /// that times the tracing alone); empty: made from ray_at inside the call. ray_at still gives the tiles' corners.
+  std::span<const Ray> rays;
 };
 
 struct BeamOptions {
-  int tile_size = 16;          ///< side of the first beams in pixels, >= 1
-  int min_tile = 2;            ///< beams are not split below this side; their undecided rays are traced one by one
+  int tile_size = 8;           ///< side of the first beams in pixels, >= 1
+  int min_tile = 8;            ///< beams are not split below this side; their undecided rays are traced one by one
   bool entry_points = true;    ///< rays left over start at the tile's entry node (false: at the root)
   int max_front_candidates = 12;  ///< the in-front proof (pairwise) is tried only up to this many candidates
   /// A beam with more candidates than this per pixel is not split: its rays are traced from its entry point at once
@@ -39,6 +43,10 @@ struct BeamOptions {
   /// bvh_wide: SIMD float frustum culling of boxes with entry points (frustum_tracer.h), no primitive tests; false:
   /// the double-precision beam/box and beam/triangle tests of every other structure.
   bool frustum = true;
+  /// bvh_wide's frustum beams: the rays left over are traced in 4 x 2 pixel packets from the entry point (eight-wide
+  /// nodes), a ray whose packet hit may differ from intersect()'s at a tie traced again alone; false: one by one,
+  /// with per-ray statistics.
+  bool packets = true;
 };
 /// Checks a configuration; throws Error naming the bad value.
 void check_options(const BeamOptions& config);
@@ -53,7 +61,9 @@ struct BeamStats {
   std::uint64_t pixels_missed = 0;          ///< resolved as misses by an empty beam
   std::uint64_t pixels_one_primitive = 0;   ///< resolved by one ray/primitive test: the beam's only candidate
   std::uint64_t pixels_in_front = 0;        ///< resolved by one ray/primitive test: a hit on the proven front triangle
-  std::uint64_t pixels_traced = 0;          ///< traced one by one (from the entry point)
+  std::uint64_t pixels_traced = 0;          ///< traced one by one or in packets (from the entry point)
+  std::uint64_t pixels_in_packets = 0;      ///< of those, traced in packets (no node or primitive counts)
+  std::uint64_t pixels_retraced = 0;        ///< of those, traced again alone: a possible tie in the packet
   BeamStats& operator+=(const BeamStats& o);
 };
 
@@ -66,6 +76,10 @@ struct BeamResult {
 /// rays do not share one origin or the size is not positive.
 template <class View>
 BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config);
+/// The same into the caller's `hits` (width * height, row by row); returns the statistics.
+template <class View>
+BeamStats trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config,
+                      std::span<Hit> hits);
 
 namespace beam_detail {
 
@@ -95,8 +109,8 @@ template <class View>
 class TileTracer {
  public:
   using Ref = typename View::Ref;
-  TileTracer(const View& view, const Scene& scene, const PixelRays& pixels, const std::vector<Ray>& rays,
-             const BeamOptions& config, std::vector<Hit>& hits)
+  TileTracer(const View& view, const Scene& scene, const PixelRays& pixels, std::span<const Ray> rays,
+             const BeamOptions& config, std::span<Hit> hits)
       : view_(view), scene_(scene), pixels_(pixels), rays_(rays), config_(config), hits_(hits) {}
 
   void resolve(int x0, int y0, int x1, int y1, Ref start, BeamStats& stats) const {
@@ -242,25 +256,32 @@ class TileTracer {
   const View& view_;
   const Scene& scene_;
   const PixelRays& pixels_;
-  const std::vector<Ray>& rays_;
+  std::span<const Ray> rays_;
   const BeamOptions& config_;
-  std::vector<Hit>& hits_;
+  std::span<Hit> hits_;
 };
 
-/// Every pixel's ray (pixel centers), checked to share one origin.
-std::vector<Ray> pixel_rays(const PixelRays& pixels);
+/// Every pixel's ray (pixel centers): pixels.rays when given (checked for its size), else made from ray_at into
+/// `made`; checked to share one origin. Throws Error otherwise, or when the size is not positive.
+std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made);
+/// Throws Error unless `hits` has one entry a pixel.
+void check_hits_size(const PixelRays& pixels, std::size_t hits);
 
 /// The image cut into square tiles of config.tile_size, resolved in parallel: make_resolve(rays, hits) gives the
 /// tracer, resolve(x0, y0, x1, y1, stats) fills the hits of tile [x0, x1) x [y0, y1).
 template <class View, class MakeResolve>
-BeamResult trace_tiles(const View& view, const PixelRays& pixels, const BeamOptions& config,
-                       const MakeResolve& make_resolve) {
+BeamStats trace_tiles(const View& view, const PixelRays& pixels, const BeamOptions& config, std::span<Hit> hits,
+                      const MakeResolve& make_resolve) {
   check_options(config);
   BeamResult result;
-  const std::vector<Ray> rays = pixel_rays(pixels);
-  result.hits.assign(rays.size(), Hit{});
-  if (view.empty()) return result;
-  const auto resolve = make_resolve(rays, result.hits);
+  std::vector<Ray> made;
+  const std::span<const Ray> rays = pixel_rays(pixels, made);
+  check_hits_size(pixels, hits.size());
+  if (view.empty()) {
+    std::fill(hits.begin(), hits.end(), Hit{});
+    return result.stats;
+  }
+  const auto resolve = make_resolve(rays, hits);
   const int tiles_x = (pixels.width + config.tile_size - 1) / config.tile_size;
   const int tiles_y = (pixels.height + config.tile_size - 1) / config.tile_size;
   std::mutex merge;
@@ -275,19 +296,35 @@ BeamResult trace_tiles(const View& view, const PixelRays& pixels, const BeamOpti
     const std::lock_guard<std::mutex> lock(merge);
     result.stats += local;
   });
+  return result.stats;
+}
+
+/// trace(hits) run on a new image of hits, returned with its statistics.
+template <class Trace>
+BeamResult into_new_hits(const PixelRays& pixels, const Trace& trace) {
+  BeamResult result;
+  result.hits.resize(std::size_t(std::max(pixels.width, 0)) * std::size_t(std::max(pixels.height, 0)));
+  result.stats = trace(std::span<Hit>(result.hits));
   return result;
 }
 
 }  // namespace beam_detail
 
 template <class View>
-BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config) {
-  return beam_detail::trace_tiles(view, pixels, config, [&](const std::vector<Ray>& rays, std::vector<Hit>& hits) {
-    const beam_detail::TileTracer<View> tracer(view, scene, pixels, rays, config, hits);
+BeamStats trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config,
+                      std::span<Hit> hits) {
+  return beam_detail::trace_tiles(view, pixels, config, hits, [&](std::span<const Ray> rays, std::span<Hit> out) {
+    const beam_detail::TileTracer<View> tracer(view, scene, pixels, rays, config, out);
     return [tracer, &view](int x0, int y0, int x1, int y1, BeamStats& stats) {
       tracer.resolve(x0, y0, x1, y1, view.root(), stats);
     };
   });
+}
+
+template <class View>
+BeamResult trace_beams(const View& view, const Scene& scene, const PixelRays& pixels, const BeamOptions& config) {
+  return beam_detail::into_new_hits(
+      pixels, [&](std::span<Hit> hits) { return trace_beams(view, scene, pixels, config, hits); });
 }
 
 }  // namespace rayaccel::generalized

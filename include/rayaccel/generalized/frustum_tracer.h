@@ -2,8 +2,10 @@
 // 2005, "Multi-level ray tracing algorithm"; Wald et al. 2006 frustum culling): no primitive tests, only boxes.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "rayaccel/core/hit.h"
@@ -20,14 +22,16 @@ namespace rayaccel::generalized::beam_detail {
 // wide BVH from its start node while exactly one child of a node may meet it, each node's W child boxes tested
 // against every plane in one pass of W lanes. No child: every pixel misses. Otherwise the node reached is the tile's
 // entry point: a tile above min_tile is split in four, each quarter descending from there; the rays of a tile at
-// min_tile (or of one that reached a leaf) are traced one by one from it with the structure's own traversal. A
-// subtree the frustum culls holds nothing its rays can hit, so a traversal from the entry point tests the primitives
-// that can be hit in the order one from the root does: every pixel's hit is intersect()'s bit for bit.
+// min_tile (or of one that reached a leaf) are traced from it with the structure's own traversals: in 4 x 2 pixel
+// packets where it has them (eight-wide nodes), else one by one. A subtree the frustum culls holds nothing its rays
+// can hit, so a traversal from the entry point tests the primitives that can be hit in the order one from the root
+// does: every pixel's hit is intersect()'s bit for bit (a packet's ray that may have met a tie in t, where the packet
+// could keep another primitive than intersect(), is traced again alone).
 template <int W>
 class FrustumTileTracer {
  public:
-  FrustumTileTracer(const WideView<W>& view, const PixelRays& pixels, const std::vector<Ray>& rays,
-                    const BeamOptions& config, std::vector<Hit>& hits)
+  FrustumTileTracer(const WideView<W>& view, const PixelRays& pixels, std::span<const Ray> rays,
+                    const BeamOptions& config, std::span<Hit> hits)
       : view_(view), pixels_(pixels), rays_(rays), config_(config), hits_(hits) {}
 
   /// Resolves every pixel of the tile [x0, x1) x [y0, y1), splitting it as described above.
@@ -51,7 +55,7 @@ class FrustumTileTracer {
     while (top > 0) {
       const Tile t = pending[--top];
       ++stats.beams;
-      const BeamFrustum frustum = frustum_of(t);
+      const BeamFrustum frustum = frustum_of<S>(t);
       if (!frustum.valid()) {  // a frustum that cannot be proven to hold its rays decides nothing
         trace_rays(t, t.start, stats);
         continue;
@@ -91,18 +95,25 @@ class FrustumTileTracer {
     }
   }
 
-  /// The frustum through the tile's corners, or an invalid one when a pixel ray is not proven inside it.
-  BeamFrustum frustum_of(const Tile& t) const {
+  /// The frustum through the tile's corners, or an invalid one when a pixel ray is not proven inside it: W rays of a
+  /// row at a time by the float test (holds_lanes()), the lanes it leaves out by holds().
+  template <class S>
+  RAYACCEL_LANE_INLINE BeamFrustum frustum_of(const Tile& t) const {
     const float fx[4] = {float(t.x0), float(t.x1), float(t.x1), float(t.x0)};
     const float fy[4] = {float(t.y0), float(t.y0), float(t.y1), float(t.y1)};
     Vec3 corners[4];
     for (int i = 0; i < 4; ++i) corners[i] = pixels_.ray_at(fx[i], fy[i]).direction;
     BeamFrustum frustum = BeamFrustum::through(rays_[0].origin, corners);
     for (int y = t.y0; y < t.y1 && frustum.valid(); ++y) {
-      for (int x = t.x0; x < t.x1; ++x) {
-        if (!frustum.holds(rays_[index(x, y)])) {
-          frustum.plane_count = 0;
-          break;
+      for (int x = t.x0; x < t.x1 && frustum.valid(); x += W) {
+        const int count = std::min(W, t.x1 - x);
+        const Ray* row = rays_.data() + index(x, y);
+        const int proven = holds_lanes<S>(frustum, row, count);
+        for (int rest = ~proven & ((1 << count) - 1); rest; rest &= rest - 1) {
+          if (!frustum.holds(row[std::countr_zero(unsigned(rest))])) {
+            frustum.plane_count = 0;
+            break;
+          }
         }
       }
     }
@@ -110,17 +121,58 @@ class FrustumTileTracer {
   }
 
   void trace_rays(const Tile& t, std::uint32_t start, BeamStats& stats) const {
+    if (config_.packets && view_.has_packets()) {
+      trace_packets(t, start, stats);
+      return;
+    }
     beam_detail::trace_pixels_from(view_, start, t.x0, t.y0, t.x1, t.y1, pixels_.width, rays_.data(), hits_.data(),
                                    stats);
+  }
+
+  /// The tile's rays in packets of 4 x 2 pixels (fewer at its right and bottom edges) from `start`; the rays a
+  /// packet names as possibly tied are traced again alone.
+  void trace_packets(const Tile& t, std::uint32_t start, BeamStats& stats) const {
+    Ray packet[8];
+    Hit packet_hits[8];
+    std::size_t pixel[8];
+    TraversalStats retraced;
+    for (int y = t.y0; y < t.y1; y += 2) {
+      for (int x = t.x0; x < t.x1; x += 4) {
+        int count = 0;
+        for (int dy = 0; dy < 2 && y + dy < t.y1; ++dy) {
+          for (int dx = 0; dx < 4 && x + dx < t.x1; ++dx) {
+            pixel[count] = index(x + dx, y + dy);
+            packet[count] = rays_[pixel[count]];
+            ++count;
+          }
+        }
+        const int again = view_.trace_packet_from(start, packet, count, packet_hits);
+        for (int i = 0; i < count; ++i) hits_[pixel[i]] = packet_hits[i];
+        for (int rest = again; rest; rest &= rest - 1) {
+          const int i = std::countr_zero(unsigned(rest));
+          const PreparedRay prepared(packet[i]);
+          Hit hit = Hit::begin(prepared);
+          if (!prepared.is_void()) view_.trace_from(start, prepared, hit, retraced);
+          hit.finish();
+          hits_[pixel[i]] = hit;
+        }
+        stats.pixels_retraced += std::uint64_t(std::popcount(unsigned(again)));
+      }
+    }
+    const std::uint64_t pixels = std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+    stats.pixels_traced += pixels;
+    stats.pixels_in_packets += pixels;
+    stats.ray_node_visits += retraced.nodes_visited;
+    stats.ray_primitive_tests += retraced.primitives_tested;
   }
 
   std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(pixels_.width) + std::size_t(x); }
 
   const WideView<W>& view_;
   const PixelRays& pixels_;
-  const std::vector<Ray>& rays_;
+  std::span<const Ray> rays_;
   const BeamOptions& config_;
-  std::vector<Hit>& hits_;
+  std::span<Hit> hits_;
 };
 
 }  // namespace rayaccel::generalized::beam_detail
@@ -129,9 +181,10 @@ namespace rayaccel::generalized {
 
 /// trace_beams() over the wide BVH by frustum culling (beam_detail::FrustumTileTracer): the same hits.
 template <int W>
-BeamResult trace_frustum_beams(const WideView<W>& view, const PixelRays& pixels, const BeamOptions& config) {
-  return beam_detail::trace_tiles(view, pixels, config, [&](const std::vector<Ray>& rays, std::vector<Hit>& hits) {
-    const beam_detail::FrustumTileTracer<W> tracer(view, pixels, rays, config, hits);
+BeamStats trace_frustum_beams(const WideView<W>& view, const PixelRays& pixels, const BeamOptions& config,
+                              std::span<Hit> hits) {
+  return beam_detail::trace_tiles(view, pixels, config, hits, [&](std::span<const Ray> rays, std::span<Hit> out) {
+    const beam_detail::FrustumTileTracer<W> tracer(view, pixels, rays, config, out);
     return [tracer](int x0, int y0, int x1, int y1, BeamStats& stats) { tracer.resolve(x0, y0, x1, y1, stats); };
   });
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "rayaccel/accel/accelerator.h"
@@ -14,8 +15,12 @@ namespace rayaccel::generalized {
 class GeneralizedRays {
  public:
   virtual ~GeneralizedRays() = default;
-  /// trace_beams() (beam_tracer.h) over the structure.
-  virtual BeamResult trace_beams(const PixelRays& pixels, const BeamOptions& config) const = 0;
+  /// trace_beams() (beam_tracer.h) over the structure, into the caller's `hits` (width * height, row by row).
+  virtual BeamStats trace_beams(const PixelRays& pixels, const BeamOptions& config, std::span<Hit> hits) const = 0;
+  /// The same into a new image of hits.
+  BeamResult trace_beams(const PixelRays& pixels, const BeamOptions& config) const {
+    return beam_detail::into_new_hits(pixels, [&](std::span<Hit> hits) { return trace_beams(pixels, config, hits); });
+  }
   /// query_cone() (cone_query.h) over the structure.
   virtual std::vector<ConeHit> query_cone(const Cone& cone, const ConeQueryOptions& config,
                                           TraversalStats* stats = nullptr) const = 0;

@@ -105,6 +105,12 @@ class WideView {
   void trace_from(Ref ref, const PreparedRay& ray, Hit& hit, TraversalStats& stats) const {
     bvh_.trace_from<false>(ref, ray, hit, stats);
   }
+  /// True when trace_packet_from() runs: eight-wide nodes over triangles (WideBvh::has_packet_traversal()).
+  bool has_packets() const { return W == 8 && bvh_.has_packet_traversal(); }
+  /// WideBvh::intersect_packet_from(): up to eight rays from `ref`; returns the rays to trace again for a tie.
+  int trace_packet_from(Ref ref, const Ray* rays, int count, Hit* hits) const {
+    return bvh_.intersect_packet_from(ref, rays, count, hits);
+  }
 
  private:
   const wide::NodeArray<W>& nodes() const {

@@ -45,10 +45,12 @@ struct WatertightLanes {
   using F = typename S::F;
   int hits = 0;     ///< lanes whose float path found a hit with t_min + error < t < far bound
   int on_edge = 0;  ///< lanes the scalar kernel finishes (an edge function near 0, outside the safe range, tiny depth)
+  int ties = 0;     ///< with kTies: lanes whose float path found a hit at exactly t = t_far (a tie with the kept hit)
   F t, inv_det, ev, ew;  ///< for the lanes in `hits`: u = ev * inv_det, v = ew * inv_det
 
   /// Returns false (and leaves the lanes unset) when every lane is decided as a miss by the signs of its edge
-  /// functions or by `decided_miss`.
+  /// functions or by `decided_miss`. kTies: also sets `ties`.
+  template <bool kTies = false>
   RAYACCEL_LANE_INLINE bool test(const F px[3], const F py[3], const F pz[3], const F& shear_error_x,
                                  const F& shear_error_y, const F& shear_z, const F& t_min, const F& t_far,
                                  const F& decided_miss) {
@@ -118,6 +120,11 @@ struct WatertightLanes {
     const F valid = S::and_not(
         decided, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(t_min, t_error)), S::lt(t, t_far))));
     hits = S::movemask(valid) & ~on_edge;
+    if constexpr (kTies) {
+      const F tied = S::and_not(
+          decided, S::bit_and(S::neq(det, zero), S::bit_and(S::gt(t, S::add(t_min, t_error)), S::eq(t, t_far))));
+      ties = S::movemask(tied) & ~on_edge;
+    }
     return true;
   }
 
@@ -243,11 +250,13 @@ RAYACCEL_LANE_INLINE void set_lanes_to_hits(typename S::F& t_far, int lanes, con
 /// them share the axes kx, ky, kz (`axes`), and `packet` holds each lane's own origin, shear and t_min, as
 /// PreparedRay computes them from scalar_rays[lane] (which the scalar kernel gets for undecided lanes). Updates each
 /// lane's hit (closest in (t_min, hit.t)) and the lanes of `t_far`, the packet's exclusive far bounds (hit.t per lane).
-/// Returns the lanes whose hit changed.
-template <class S>
+/// Returns the lanes whose hit changed. kTies: adds to *ties the lanes where this triangle may tie with the kept hit
+/// (the float path found t equal to the lane's far bound, or the scalar kernel decided the lane), so that a caller
+/// needing one tie rule can trace those rays again.
+template <class S, bool kTies = false>
 RAYACCEL_LANE_INLINE int intersect_triangle_rays(const TrianglePacket<S>& packet, const Ray* scalar_rays, int rays,
                                                  const int axes[3], const Triangle4& block, int i, Hit* hits,
-                                                 typename S::F& t_far) {
+                                                 typename S::F& t_far, int* ties = nullptr) {
   using F = typename S::F;
   constexpr int W = S::kWidth;
   F px[3], py[3], pz[3];
@@ -261,10 +270,11 @@ RAYACCEL_LANE_INLINE int intersect_triangle_rays(const TrianglePacket<S>& packet
   }
   WatertightLanes<S> lanes;
   const F inactive = S::and_not(S::lanes_from_bits(rays), S::all_ones());
-  if (!lanes.test(px, py, pz, packet.shear_error_x, packet.shear_error_y, packet.shear_z, packet.t_min, t_far,
-                  inactive)) {
+  if (!lanes.template test<kTies>(px, py, pz, packet.shear_error_x, packet.shear_error_y, packet.shear_z,
+                                  packet.t_min, t_far, inactive)) {
     return 0;
   }
+  if constexpr (kTies) *ties |= lanes.ties | lanes.on_edge;
   const std::uint32_t prim_id = block.prim_id[i];
   int updated = 0;
   if (lanes.hits) {

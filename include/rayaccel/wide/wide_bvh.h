@@ -115,6 +115,14 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// The packet forms under a query context: the same packet traversal, each lane's rules asked before every
   /// triangle test and the filter of every closer hit (wide_bvh_packets.cpp).
   void intersect_packets(const QueryContext& context, std::span<const Ray> rays, std::span<Hit> hits) const override;
+  /// True when the packet traversals run: eight-wide nodes (AVX builds) over a non-empty triangle tree.
+  bool has_packet_traversal() const;
+  /// One packet of closest hits from child reference `start` instead of the root (entry points of generalized rays;
+  /// see trace_from()): rays[0 .. count), count <= 8, hits into hits[0 .. count). Returns the rays whose kept hit
+  /// may tie with another primitive's at the same t (the packet and intersect() keep the first they meet, in their
+  /// own orders) or that the scalar kernel decided: every other ray's hit is intersect()'s bit for bit; trace those
+  /// again with trace_from() where that is needed. Only where has_packet_traversal().
+  int intersect_packet_from(std::uint32_t start, const Ray* rays, int count, Hit* hits) const;
   void occluded_packets(const QueryContext& context, std::span<const Ray> rays,
                         std::span<std::uint8_t> occluded) const override;
 
@@ -193,13 +201,13 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   template <int W>
   void validate_nodes(const NodeArray<W>& nodes, std::vector<std::string>& problems) const;
 
-  /// True when the packet traversals run: eight-wide nodes (AVX builds) over a non-empty triangle tree.
-  bool has_packet_traversal() const;
   /// One packet: rays[0 .. count), count <= 8, closest hits into hits[0 .. count), or with AnyHit a hit (the first
   /// found) for each occluded ray and a miss for the others (wide_bvh_packets.cpp). Context is NoPacketContext or
-  /// the packet's PacketContext (src/wide/packet_context.h).
-  template <class S, bool AnyHit, class Context>
-  RAYACCEL_LANE_INLINE void trace_packet(const Ray* rays, int count, Hit* hits, Context& context) const;
+  /// the packet's PacketContext (src/wide/packet_context.h). kTies (closest hit only): traced from `start`, returns
+  /// the rays intersect_packet_from() names; otherwise from the root, returning 0.
+  template <class S, bool AnyHit, class Context, bool kTies = false>
+  RAYACCEL_LANE_INLINE int trace_packet(const Ray* rays, int count, Hit* hits, Context& context,
+                                        std::uint32_t start = kEmptyChild) const;
   /// Asks for the four cache lines of a child met by the box test (an inner node's 256 bytes, or a leaf's first
   /// blocks) before it is visited, as Embree's traversal does: incoherent rays spend most of their time waiting for
   /// nodes, and the children pushed now are popped after the memory has had time to answer.
