@@ -22,6 +22,8 @@ const OptionTable<BeamOptions>& beam_option_table() {
               "bvh_wide: SIMD float frustum culling with entry points (false: the double-precision beam tests)");
     t.boolean("packets", &O::packets,
               "bvh_wide frustum beams: the rays left over in 4 x 2 packets (false: one by one, with statistics)");
+    t.boolean("tile_packets", &O::tile_packets,
+              "with packets: each 8 x 8 block's packets traced together under the tile's frustum (false: one by one)");
     t.integer("max_front_candidates", &O::max_front_candidates, 0, std::numeric_limits<int>::max(),
               "the in-front proof is tried only up to this many candidates");
     t.real("max_candidates_per_pixel", &O::max_candidates_per_pixel, RealRange::at_least(0.0),
@@ -52,7 +54,7 @@ BeamStats& BeamStats::operator+=(const BeamStats& o) {
 
 namespace beam_detail {
 
-std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made) {
+std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made, bool check_given_origins) {
   if (pixels.width <= 0 || pixels.height <= 0) {
     throw Error("beams: image size " + std::to_string(pixels.width) + "x" + std::to_string(pixels.height) +
                 " is not positive");
@@ -64,6 +66,7 @@ std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made)
     throw Error("beams: " + std::to_string(pixels.rays.size()) + " rays given for " + std::to_string(count) +
                 " pixels");
   }
+  if (given && !check_given_origins) return pixels.rays;
   if (!given) made.resize(count);
   const std::span<const Ray> rays = given ? pixels.rays : std::span<const Ray>(made);
   // Rows in parallel (a trace is timed with them): ray_at may be called from several threads at once.
@@ -82,6 +85,17 @@ std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made)
   });
   if (!shared_origin) throw Error("beams: the pixel rays do not share one origin");
   return rays;
+}
+
+void require_shared_origin(std::span<const Ray> rays, int width, int x0, int y0, int x1, int y1) {
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      if (!(rays[std::size_t(y) * std::size_t(width) + std::size_t(x)].origin == rays[0].origin)) {
+        throw Error("beams: the pixel rays do not share one origin (pixel " + std::to_string(x) + ", " +
+                    std::to_string(y) + ")");
+      }
+    }
+  }
 }
 
 void check_hits_size(const PixelRays& pixels, std::size_t hits) {

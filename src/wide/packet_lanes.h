@@ -1,4 +1,4 @@
-// Internal to wide_bvh_packets.cpp: a packet's rays prepared eight lanes at a time (PacketLanes), the per-lane
+// Internal to the packet traversals (wide_bvh_packets.cpp, wide_bvh_tiles.cpp): a packet's rays prepared eight lanes at a time (PacketLanes), the per-lane
 // constants of the single-ray box and watertight triangle tests.
 #pragma once
 
@@ -13,7 +13,7 @@
 namespace rayaccel::wide {
 
 #if RAYACCEL_AVX_KERNELS
-namespace {  // one translation unit includes this file
+namespace {  // internal to the packet traversals' files
 
 // One ray per lane of the eight-wide kernels' lane sets (Avx8, Avx8Masked), and one lane per child of the node those
 // kernels test: the packet size, the lane count and the node width are the same number.

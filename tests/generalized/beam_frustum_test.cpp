@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "rayaccel/generalized/beam_frustum.h"
+#include "rayaccel/wide/beam_frustum.h"
 #include "rayaccel/simd/dispatch.h"
 
 namespace rayaccel {
 namespace {
 
-using generalized::BeamFrustum;
+using wide::BeamFrustum;
 
 /// The lane sets this CPU runs.
 std::vector<simd::Isa> isas() {
@@ -39,7 +39,7 @@ std::uint64_t kept_lanes(simd::Isa isa, const BeamFrustum& f, const std::vector<
         if (first + lane < boxes.size()) box = boxes[first + lane];
         wide::set_child_bounds(node, lane, box);
       }
-      kept |= std::uint64_t(generalized::frustum_child_lanes<Lanes, W>(f, node, slack_scale)) << first;
+      kept |= std::uint64_t(wide::frustum_child_lanes<Lanes, W>(f, node, slack_scale)) << first;
     }
   });
   return kept;

@@ -231,6 +231,14 @@ TEST(BeamTracer, RejectsBadInput) {
   PixelRays two_origins = pixels_of(frame);
   two_origins.rays = given;
   EXPECT_THROW(rays->trace_beams(two_origins, {}), Error);
+  // bvh_wide's frustum beams check given rays' origins in their tiles, not before: the same error.
+  auto wide = make_accelerator("bvh_wide");
+  wide->build(scene);
+  EXPECT_THROW(generalized::make_generalized_rays(*wide, scene)->trace_beams(two_origins, {}), Error);
+  PixelRays one_origin = pixels_of(frame);
+  given[3].origin = given[0].origin;
+  one_origin.rays = given;
+  EXPECT_NO_THROW(generalized::make_generalized_rays(*wide, scene)->trace_beams(one_origin, {}));
   std::vector<Hit> hits(15);
   EXPECT_THROW(rays->trace_beams(pixels_of(frame), {}, hits), Error);
   auto octree = make_accelerator("octree");

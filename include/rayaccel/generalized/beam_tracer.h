@@ -47,6 +47,9 @@ struct BeamOptions {
   /// nodes), a ray whose packet hit may differ from intersect()'s at a tie traced again alone; false: one by one,
   /// with per-ray statistics.
   bool packets = true;
+  /// With packets: the packets of each 8 x 8 pixel block traced together, every node's children culled by the
+  /// tile's frustum once for all of them (WideBvh::intersect_tile_from()); false: packet by packet.
+  bool tile_packets = true;
 };
 /// Checks a configuration; throws Error naming the bad value.
 void check_options(const BeamOptions& config);
@@ -262,20 +265,24 @@ class TileTracer {
 };
 
 /// Every pixel's ray (pixel centers): pixels.rays when given (checked for its size), else made from ray_at into
-/// `made`; checked to share one origin. Throws Error otherwise, or when the size is not positive.
-std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made);
+/// `made`; checked to share one origin (given rays: unless `check_given_origins` is false, when the tracer checks
+/// them). Throws Error otherwise, or when the size is not positive.
+std::span<const Ray> pixel_rays(const PixelRays& pixels, std::vector<Ray>& made, bool check_given_origins = true);
+/// Throws Error unless every ray of [x0, x1) x [y0, y1) of a `width`-wide image starts at rays[0]'s origin.
+void require_shared_origin(std::span<const Ray> rays, int width, int x0, int y0, int x1, int y1);
 /// Throws Error unless `hits` has one entry a pixel.
 void check_hits_size(const PixelRays& pixels, std::size_t hits);
 
 /// The image cut into square tiles of config.tile_size, resolved in parallel: make_resolve(rays, hits) gives the
-/// tracer, resolve(x0, y0, x1, y1, stats) fills the hits of tile [x0, x1) x [y0, y1).
+/// tracer, resolve(x0, y0, x1, y1, stats) fills the hits of tile [x0, x1) x [y0, y1). `tracer_checks_origins`: the
+/// tracer throws for given rays that do not share one origin (pixel_rays() does not read them all first).
 template <class View, class MakeResolve>
 BeamStats trace_tiles(const View& view, const PixelRays& pixels, const BeamOptions& config, std::span<Hit> hits,
-                      const MakeResolve& make_resolve) {
+                      const MakeResolve& make_resolve, bool tracer_checks_origins = false) {
   check_options(config);
   BeamResult result;
   std::vector<Ray> made;
-  const std::span<const Ray> rays = pixel_rays(pixels, made);
+  const std::span<const Ray> rays = pixel_rays(pixels, made, !tracer_checks_origins);
   check_hits_size(pixels, hits.size());
   if (view.empty()) {
     std::fill(hits.begin(), hits.end(), Hit{});

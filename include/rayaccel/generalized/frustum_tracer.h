@@ -5,18 +5,23 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
 #include "rayaccel/core/hit.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/core/stats.h"
-#include "rayaccel/generalized/beam_frustum.h"
+#include "rayaccel/wide/beam_frustum.h"
 #include "rayaccel/generalized/beam_tracer.h"
 #include "rayaccel/generalized/structure_views.h"
 #include "rayaccel/simd/dispatch.h"
 
 namespace rayaccel::generalized::beam_detail {
+
+using wide::BeamFrustum;
+using wide::frustum_child_lanes;
+using wide::holds_lanes;
 
 // Each tile's frustum (BeamFrustum: float planes through its corner rays, every pixel ray proven inside) descends the
 // wide BVH from its start node while exactly one child of a node may meet it, each node's W child boxes tested
@@ -55,8 +60,15 @@ class FrustumTileTracer {
     while (top > 0) {
       const Tile t = pending[--top];
       ++stats.beams;
-      const BeamFrustum frustum = frustum_of<S>(t);
+      const int w = t.x1 - t.x0, h = t.y1 - t.y0;
+      // A tile resolved whole from the root by the tile traversal leaves the proof that its frustum holds its rays
+      // to that traversal, which proves each packet's lanes in SIMD (and to the empty case below); any other tile
+      // proves every ray now.
+      const bool proof_later = t.start == view_.root() && std::max(w, h) <= config_.min_tile && tile_packets();
+      BeamFrustum frustum = corner_frustum(t);
+      if (frustum.valid() && !proof_later && !holds_every_ray<S>(frustum, t)) frustum.plane_count = 0;
       if (!frustum.valid()) {  // a frustum that cannot be proven to hold its rays decides nothing
+        require_shared_origin(t);
         trace_rays(t, t.start, stats);
         continue;
       }
@@ -72,6 +84,11 @@ class FrustumTileTracer {
         if (lanes & (lanes - 1)) break;  // two or more children: the entry point
         ref = view_.node(ref).child[std::countr_zero(unsigned(lanes))];
       }
+      if (empty && proof_later && !holds_every_ray<S>(frustum, t)) {
+        require_shared_origin(t);
+        trace_rays(t, t.start, stats);  // the root: the walk proved nothing
+        continue;
+      }
       if (empty) {
         for (int y = t.y0; y < t.y1; ++y) {
           for (int x = t.x0; x < t.x1; ++x) hits_[index(x, y)] = Hit{};
@@ -79,9 +96,8 @@ class FrustumTileTracer {
         stats.pixels_missed += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
         continue;
       }
-      const int w = t.x1 - t.x0, h = t.y1 - t.y0;
       if (view_.is_leaf(ref) || std::max(w, h) <= config_.min_tile) {
-        trace_rays(t, config_.entry_points ? ref : view_.root(), stats);
+        trace_rays(t, config_.entry_points ? ref : view_.root(), stats, &frustum, !proof_later);
         continue;
       }
       const int xm = w > config_.min_tile ? t.x0 + (w + 1) / 2 : t.x1;
@@ -95,38 +111,136 @@ class FrustumTileTracer {
     }
   }
 
-  /// The frustum through the tile's corners, or an invalid one when a pixel ray is not proven inside it: W rays of a
-  /// row at a time by the float test (holds_lanes()), the lanes it leaves out by holds().
-  template <class S>
-  RAYACCEL_LANE_INLINE BeamFrustum frustum_of(const Tile& t) const {
+  /// Every tile's rays start at one origin where a frustum proved them inside (its apex is rays_[0]'s origin); where
+  /// none did, this checks them (trace_frustum_beams() leaves the check of given rays to the tracer).
+  void require_shared_origin(const Tile& t) const {
+    beam_detail::require_shared_origin(rays_, pixels_.width, t.x0, t.y0, t.x1, t.y1);
+  }
+
+  /// True when the tile traversal runs (packets of eight-wide nodes, tiles together).
+  bool tile_packets() const { return config_.packets && config_.tile_packets && view_.has_packets(); }
+
+  /// The frustum through the tile's corners (not yet proven to hold its rays).
+  BeamFrustum corner_frustum(const Tile& t) const {
     const float fx[4] = {float(t.x0), float(t.x1), float(t.x1), float(t.x0)};
     const float fy[4] = {float(t.y0), float(t.y0), float(t.y1), float(t.y1)};
     Vec3 corners[4];
     for (int i = 0; i < 4; ++i) corners[i] = pixels_.ray_at(fx[i], fy[i]).direction;
-    BeamFrustum frustum = BeamFrustum::through(rays_[0].origin, corners);
-    for (int y = t.y0; y < t.y1 && frustum.valid(); ++y) {
-      for (int x = t.x0; x < t.x1 && frustum.valid(); x += W) {
+    return BeamFrustum::through(rays_[0].origin, corners);
+  }
+
+  /// True when every pixel ray of the tile is proven inside the valid `frustum`: W rays of a row at a time by the
+  /// float test (holds_lanes()), the lanes it leaves out by holds().
+  template <class S>
+  RAYACCEL_LANE_INLINE bool holds_every_ray(const BeamFrustum& frustum, const Tile& t) const {
+    for (int y = t.y0; y < t.y1; ++y) {
+      for (int x = t.x0; x < t.x1; x += W) {
         const int count = std::min(W, t.x1 - x);
         const Ray* row = rays_.data() + index(x, y);
         const int proven = holds_lanes<S>(frustum, row, count);
         for (int rest = ~proven & ((1 << count) - 1); rest; rest &= rest - 1) {
-          if (!frustum.holds(row[std::countr_zero(unsigned(rest))])) {
-            frustum.plane_count = 0;
-            break;
-          }
+          if (!frustum.holds(row[std::countr_zero(unsigned(rest))])) return false;
         }
       }
     }
-    return frustum;
+    return true;
   }
 
-  void trace_rays(const Tile& t, std::uint32_t start, BeamStats& stats) const {
+  /// The rays of tile t from `start`. `frustum`: null, or the tile's frustum, `proven` to hold its rays or not (then
+  /// only with tile_packets(), `start` found by its walk from the root).
+  void trace_rays(const Tile& t, std::uint32_t start, BeamStats& stats, const BeamFrustum* frustum = nullptr,
+                  bool proven = true) const {
     if (config_.packets && view_.has_packets()) {
-      trace_packets(t, start, stats);
+      if (frustum != nullptr && config_.tile_packets) {
+        trace_tile_packets(t, start, *frustum, proven, stats);
+      } else {
+        trace_packets(t, start, stats);
+      }
       return;
     }
     beam_detail::trace_pixels_from(view_, start, t.x0, t.y0, t.x1, t.y1, pixels_.width, rays_.data(), hits_.data(),
                                    stats);
+  }
+
+  /// The tile's rays in 8 x 8 pixel blocks of eight 4 x 2 pixel packets, each block traced together from `start`
+  /// under the tile's frustum (WideBvh::intersect_tile_from(), which proves its lanes unless `proven`); a block off
+  /// that path packet by packet, from `start` where the frustum holds every ray, else from the root. The rays named
+  /// as possibly tied are traced again alone.
+  void trace_tile_packets(const Tile& t, std::uint32_t start, const BeamFrustum& frustum, bool proven,
+                          BeamStats& stats) const {
+    // Filled before use (left uninitialised: zeroing 3 kB a tile showed in profiles).
+    union Rays {
+      Rays() {}
+      Ray ray[64];
+    } block_storage;
+    union Hits {
+      Hits() {}
+      Hit hit[64];
+    } hit_storage;
+    Ray* const block_rays = block_storage.ray;
+    Hit* const block_hits = hit_storage.hit;
+    std::size_t pixel[64];
+    constexpr std::size_t kNoPixel = ~std::size_t(0);
+    Ray void_ray;
+    void_ray.t_min = std::numeric_limits<float>::infinity();
+    void_ray.t_max = -std::numeric_limits<float>::infinity();
+    TraversalStats retraced;
+    for (int by = t.y0; by < t.y1; by += 8) {
+      for (int bx = t.x0; bx < t.x1; bx += 8) {
+        int count = 0;
+        for (int py = by; py < std::min(by + 8, t.y1); py += 2) {
+          for (int px = bx; px < std::min(bx + 8, t.x1); px += 4) {
+            for (int dy = 0; dy < 2; ++dy) {
+              for (int dx = 0; dx < 4; ++dx) {
+                const bool inside = py + dy < t.y1 && px + dx < t.x1;
+                pixel[count] = inside ? index(px + dx, py + dy) : kNoPixel;
+                block_rays[count] = inside ? rays_[pixel[count]] : void_ray;
+                ++count;
+              }
+            }
+          }
+        }
+        std::uint64_t again = 0;
+        std::uint32_t from = start;
+        if (view_.trace_tile_from(start, frustum, block_rays, count, block_hits, again, !proven)) {
+          for (int i = 0; i < count; ++i) {
+            if (pixel[i] != kNoPixel) hits_[pixel[i]] = block_hits[i];
+          }
+        } else {
+          bool held = proven;
+          if (!held) {
+            held = true;
+            for (int i = 0; i < count && held; ++i) held = pixel[i] == kNoPixel || frustum.holds(block_rays[i]);
+          }
+          if (!held) require_shared_origin(t);
+          from = held ? start : view_.root();
+          again = 0;
+          for (int first = 0; first < count; first += 8) {
+            again |= std::uint64_t(unsigned(view_.trace_packet_from(from, block_rays + first, 8,
+                                                                    block_hits + first)))
+                     << first;
+          }
+          for (int i = 0; i < count; ++i) {
+            if (pixel[i] != kNoPixel) hits_[pixel[i]] = block_hits[i];
+          }
+        }
+        for (std::uint64_t rest = again; rest; rest &= rest - 1) {
+          const int i = std::countr_zero(rest);
+          if (pixel[i] == kNoPixel) continue;
+          const PreparedRay prepared(block_rays[i]);
+          Hit hit = Hit::begin(prepared);
+          if (!prepared.is_void()) view_.trace_from(from, prepared, hit, retraced);
+          hit.finish();
+          hits_[pixel[i]] = hit;
+          ++stats.pixels_retraced;
+        }
+      }
+    }
+    const std::uint64_t pixels = std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+    stats.pixels_traced += pixels;
+    stats.pixels_in_packets += pixels;
+    stats.ray_node_visits += retraced.nodes_visited;
+    stats.ray_primitive_tests += retraced.primitives_tested;
   }
 
   /// The tile's rays in packets of 4 x 2 pixels (fewer at its right and bottom edges) from `start`; the rays a
@@ -186,7 +300,7 @@ BeamStats trace_frustum_beams(const WideView<W>& view, const PixelRays& pixels, 
   return beam_detail::trace_tiles(view, pixels, config, hits, [&](std::span<const Ray> rays, std::span<Hit> out) {
     const beam_detail::FrustumTileTracer<W> tracer(view, pixels, rays, config, out);
     return [tracer](int x0, int y0, int x1, int y1, BeamStats& stats) { tracer.resolve(x0, y0, x1, y1, stats); };
-  });
+  }, /*tracer_checks_origins=*/true);
 }
 
 }  // namespace rayaccel::generalized

@@ -22,6 +22,8 @@
 
 namespace rayaccel::wide {
 
+struct BeamFrustum;  // beam_frustum.h
+
 /// Traversal pushes at most W-1 entries per level; collapsing never adds levels to the binary tree's kBvhMaxDepth;
 /// the AVX-512 pushes write eight entries at a time (child_push.h), hence the 8 more.
 inline constexpr int kStackSize = 7 * kBvhMaxDepth + 8;
@@ -123,6 +125,16 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// own orders) or that the scalar kernel decided: every other ray's hit is intersect()'s bit for bit; trace those
   /// again with trace_from() where that is needed. Only where has_packet_traversal().
   int intersect_packet_from(std::uint32_t start, const Ray* rays, int count, Hit* hits) const;
+  /// Up to eight packets of one beam's tile traced together from `start`, closest hits: rays[8p .. 8p + 8) is packet
+  /// p (void rays fill unused lanes), count = 8 * packets <= 64, hits into hits[0 .. count). Each node's children are
+  /// culled by `frustum` for the whole tile at once (it must hold every ray that is not void: BeamFrustum::holds()),
+  /// then tested packet by packet; the children met are entered nearest first. `ties` gets the rays (bit i: rays[i])
+  /// intersect_packet_from() would name; every other ray's hit is intersect()'s bit for bit. `prove`: the frustum is
+  /// not yet known to hold the rays, so each packet's lanes are proven first (holds_in_lanes()). Returns false,
+  /// writing nothing, when a packet is off the packet kernels' fast path, the rays' direction signs differ, or a ray
+  /// was not proven (then trace the packets one by one). Only where has_packet_traversal().
+  bool intersect_tile_from(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count, Hit* hits,
+                           std::uint64_t& ties, bool prove = false) const;
   void occluded_packets(const QueryContext& context, std::span<const Ray> rays,
                         std::span<std::uint8_t> occluded) const override;
 
@@ -205,6 +217,9 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// found) for each occluded ray and a miss for the others (wide_bvh_packets.cpp). Context is NoPacketContext or
   /// the packet's PacketContext (src/wide/packet_context.h). kTies (closest hit only): traced from `start`, returns
   /// the rays intersect_packet_from() names; otherwise from the root, returning 0.
+  template <class S>
+  RAYACCEL_LANE_INLINE bool trace_tile(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count,
+                                       Hit* hits, std::uint64_t& ties, bool prove) const;
   template <class S, bool AnyHit, class Context, bool kTies = false>
   RAYACCEL_LANE_INLINE int trace_packet(const Ray* rays, int count, Hit* hits, Context& context,
                                         std::uint32_t start = kEmptyChild) const;

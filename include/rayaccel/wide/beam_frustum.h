@@ -11,7 +11,7 @@
 #include "rayaccel/simd/lane_set.h"
 #include "rayaccel/wide/wide_node.h"
 
-namespace rayaccel::generalized {
+namespace rayaccel::wide {
 
 /// Planes through the apex a with normals n_p (floats): a box is culled when, for some p, every point x of the box
 /// (grown by its slack) has n_p . (x - a) < 0, while every ray of the beam has n_p . d >= 0 and t >= 0 (holds()), so
@@ -52,7 +52,7 @@ RAYACCEL_LANE_CODE_BEGIN
 /// (see BeamFrustum for the margin and slack; slack_scale other than kSlackScale only to test the margin alone).
 /// S::kWidth == W.
 template <class S, int W>
-RAYACCEL_LANE_INLINE int frustum_child_lanes(const BeamFrustum& f, const wide::Node<W>& node,
+RAYACCEL_LANE_INLINE int frustum_child_lanes(const BeamFrustum& f, const Node<W>& node,
                                              float slack_scale = BeamFrustum::kSlackScale) {
   static_assert(S::kWidth == W, "one lane a child");
   using F = typename S::F;
@@ -87,11 +87,30 @@ RAYACCEL_LANE_INLINE int frustum_child_lanes(const BeamFrustum& f, const wide::N
   return S::movemask(S::and_not(culled, nonempty));
 }
 
-/// The rays of rays[0 .. count), count <= S::kWidth, one a lane, that a float test proves f.holds() for: origin equal
-/// to the apex, t_min >= 0 and, for every plane, v = fl(n . d) > fl(2^-20 * s) + 2^-120 with s = sum_k |n_k d_k| in
-/// float (d as PreparedRay reads it). v is n . d within gamma(2) s + 3 * 2^-150 (a three-term float sum; products
-/// that underflow), far inside that margin, so n . d > 2^-50 s holds exactly, as holds() asks. A sufficient test:
-/// a lane it leaves out may still be held (holds() decides it). f must be valid().
+/// The lanes of a set of rays, one a lane (origin, direction as PreparedRay reads it, t_min), that a float test
+/// proves f.holds() for: origin equal to the apex, t_min >= 0 and, for every plane, v = fl(n . d) > fl(2^-20 * s) +
+/// 2^-120 with s = sum_k |n_k d_k| in float. v is n . d within gamma(2) s + 3 * 2^-150 (a three-term float sum;
+/// products that underflow), far inside that margin, so n . d > 2^-50 s holds exactly, as holds() asks. A sufficient
+/// test: a lane it leaves out may still be held (holds() decides it). f must be valid().
+template <class S>
+RAYACCEL_LANE_INLINE int holds_in_lanes(const BeamFrustum& f, const typename S::F origin[3],
+                                        const typename S::F direction[3], const typename S::F& t_min) {
+  using F = typename S::F;
+  const F sign_bit = S::set1(-0.0f);
+  F held = S::ge(t_min, S::zero());
+  for (int k = 0; k < 3; ++k) held = S::bit_and(held, S::eq(origin[k], S::set1(f.apex[k])));
+  for (int p = 0; p < f.plane_count; ++p) {
+    const F t0 = S::mul(S::set1(f.normal[p][0]), direction[0]);
+    const F t1 = S::mul(S::set1(f.normal[p][1]), direction[1]);
+    const F t2 = S::mul(S::set1(f.normal[p][2]), direction[2]);
+    const F v = S::add(S::add(t0, t1), t2);
+    const F scale = S::add(S::add(S::and_not(sign_bit, t0), S::and_not(sign_bit, t1)), S::and_not(sign_bit, t2));
+    held = S::bit_and(held, S::gt(v, S::add(S::mul(scale, S::set1(0x1p-20f)), S::set1(0x1p-120f))));
+  }
+  return S::movemask(held);
+}
+
+/// holds_in_lanes() for rays[0 .. count), count <= S::kWidth, read from their records.
 template <class S>
 RAYACCEL_LANE_INLINE int holds_lanes(const BeamFrustum& f, const Ray* rays, int count) {
   using F = typename S::F;
@@ -104,24 +123,15 @@ RAYACCEL_LANE_INLINE int holds_lanes(const BeamFrustum& f, const Ray* rays, int 
     for (int k = 0; k < 7; ++k) field[k][i] = r[k];
   }
   const F sign_bit = S::set1(-0.0f);
-  F held = S::ge(S::load(field[3]), S::zero());
-  F d[3];
+  F origin[3], direction[3];
   for (int k = 0; k < 3; ++k) {
-    held = S::bit_and(held, S::eq(S::load(field[k]), S::set1(f.apex[k])));
-    d[k] = S::load(field[4 + k]);
-    const F subnormal = S::lt(S::and_not(sign_bit, d[k]), S::set1(0x1p-126f));  // read as zero of its sign
-    d[k] = S::and_not(S::and_not(sign_bit, subnormal), d[k]);
+    origin[k] = S::load(field[k]);
+    direction[k] = S::load(field[4 + k]);
+    const F subnormal = S::lt(S::and_not(sign_bit, direction[k]), S::set1(0x1p-126f));  // read as zero of its sign
+    direction[k] = S::and_not(S::and_not(sign_bit, subnormal), direction[k]);
   }
-  for (int p = 0; p < f.plane_count; ++p) {
-    const F t0 = S::mul(S::set1(f.normal[p][0]), d[0]);
-    const F t1 = S::mul(S::set1(f.normal[p][1]), d[1]);
-    const F t2 = S::mul(S::set1(f.normal[p][2]), d[2]);
-    const F v = S::add(S::add(t0, t1), t2);
-    const F scale = S::add(S::add(S::and_not(sign_bit, t0), S::and_not(sign_bit, t1)), S::and_not(sign_bit, t2));
-    held = S::bit_and(held, S::gt(v, S::add(S::mul(scale, S::set1(0x1p-20f)), S::set1(0x1p-120f))));
-  }
-  return S::movemask(held) & ((1 << count) - 1);
+  return holds_in_lanes<S>(f, origin, direction, S::load(field[3])) & ((1 << count) - 1);
 }
 RAYACCEL_LANE_CODE_END
 
-}  // namespace rayaccel::generalized
+}  // namespace rayaccel::wide

@@ -1,12 +1,12 @@
 // The float frustum of a beam: side planes through its corner rays, axis planes where every ray points one way, and
 // the exact proof that a ray lies on the inner side of every plane (beam_frustum.h).
-#include "rayaccel/generalized/beam_frustum.h"
+#include "rayaccel/wide/beam_frustum.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace rayaccel::generalized {
+namespace rayaccel::wide {
 
 namespace {
 
@@ -83,4 +83,4 @@ bool BeamFrustum::holds(const Ray& ray) const {
   return true;
 }
 
-}  // namespace rayaccel::generalized
+}  // namespace rayaccel::wide
