@@ -2,6 +2,8 @@
 // the exact proof that a ray lies on the inner side of every plane (beam_frustum.h).
 #include "rayaccel/wide/beam_frustum.h"
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -81,6 +83,42 @@ bool BeamFrustum::holds(const Ray& ray) const {
     if (!(value > scale * 0x1p-50)) return false;
   }
   return true;
+}
+
+bool BeamFrustum::box_outside(const AABB& box) const {
+  if (!valid()) return false;
+  if (!(box.lo.x <= box.hi.x)) return true;  // empty
+  // As frustum_child_lanes(): the box grown by its slack and moved to the apex, its reach, then each plane's
+  // farthest corner against the plane's margin (here four planes a pass, the unused lanes culling nothing).
+  float magnitude = apex_magnitude;
+  for (int k = 0; k < 3; ++k) magnitude = std::max(magnitude, std::max(std::fabs(box.lo[k]), std::fabs(box.hi[k])));
+  const float slack = magnitude * kSlackScale;
+  float lo[3], hi[3], reach = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = (box.lo[k] - slack) - apex[k];
+    hi[k] = (box.hi[k] + slack) - apex[k];
+    reach = std::max(reach, std::max(std::fabs(lo[k]), std::fabs(hi[k])));
+  }
+  const __m128 tiny = _mm_set1_ps(0x1p-126f);
+  const __m128 reach4 = _mm_set1_ps(reach);
+  for (int first = 0; first < plane_count; first += 4) {
+    alignas(16) float n[3][4] = {}, c[3][4] = {}, m[4] = {};
+    for (int i = 0; i < 4 && first + i < plane_count; ++i) {
+      const int p = first + i;
+      for (int k = 0; k < 3; ++k) {
+        n[k][i] = normal[p][k];
+        c[k][i] = far_is_hi[p][k] ? hi[k] : lo[k];
+      }
+      m[i] = margin[p];
+    }
+    __m128 v = _mm_mul_ps(_mm_load_ps(n[0]), _mm_load_ps(c[0]));
+    v = _mm_add_ps(v, _mm_mul_ps(_mm_load_ps(n[1]), _mm_load_ps(c[1])));
+    v = _mm_add_ps(v, _mm_mul_ps(_mm_load_ps(n[2]), _mm_load_ps(c[2])));
+    const __m128 bound = _mm_add_ps(_mm_mul_ps(_mm_load_ps(m), reach4), tiny);
+    const int culled = _mm_movemask_ps(_mm_cmplt_ps(_mm_add_ps(v, bound), _mm_setzero_ps()));
+    if (culled & ((1 << std::min(4, plane_count - first)) - 1)) return true;
+  }
+  return false;
 }
 
 }  // namespace rayaccel::wide

@@ -1,6 +1,7 @@
 // Beams against the rays they stand for: every pixel's hit from trace_beams() must be bit for bit the structure's own
 // intersect() (prim, t, u, v), over every registered variant with beams (every BVH volume and builder, the wide BVH at
-// both widths, its frustum beams' rays in packets and one by one, the kd-tree), on built-in stress scenes,
+// both widths, the kd-tree), by float frusta (bvh_wide's rays in packets and one by one) and by double-precision
+// beams, on built-in stress scenes,
 // a mesh whose edges and vertices lie exactly on pixel rays, a scene where a front triangle hides others, and the bunny.
 #include <gtest/gtest.h>
 
@@ -134,17 +135,18 @@ TEST_P(BeamIdentity, EveryPixelMatchesIntersectOnStressScenes) {
     // wide BVH both by its SIMD frustum (the default) and by the double-precision beam tests.
     std::vector<BeamOptions> configs = {BeamOptions{},
                                         BeamOptions{.tile_size = 7, .min_tile = 1, .max_candidates_per_pixel = 1e9f}};
-    if (GetParam().starts_with("bvh_wide")) {
-      // The frustum's rays one by one (with counts) as well as in packets, and the double-precision beams.
-      for (std::size_t i = 0, n = configs.size(); i < n; ++i) {
+    // Every structure by its float frustum (the default) and by the double-precision beam tests; bvh_wide's frustum
+    // rays also one by one (with counts) besides in packets.
+    for (std::size_t i = 0, n = configs.size(); i < n; ++i) {
+      configs.push_back(configs[i]);
+      configs.back().frustum = false;
+      if (GetParam().starts_with("bvh_wide")) {
         configs.push_back(configs[i]);
         configs.back().packets = false;
-        configs.push_back(configs[i]);
-        configs.back().frustum = false;
       }
-      const auto* wide = dynamic_cast<const wide::WideBvh*>(accel.get());
-      packets_run = packets_run || (wide != nullptr && wide->has_packet_traversal());
     }
+    const auto* wide = dynamic_cast<const wide::WideBvh*>(accel.get());
+    packets_run = packets_run || (wide != nullptr && wide->has_packet_traversal());
     // The first configuration again with the rays and hits given by the caller (a bench's timed form).
     std::vector<Ray> pixel_rays;
     for (int y = 0; y < frame.height; ++y) {

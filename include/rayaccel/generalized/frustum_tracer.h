@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -291,7 +292,136 @@ class FrustumTileTracer {
 
 }  // namespace rayaccel::generalized::beam_detail
 
+namespace rayaccel::generalized::beam_detail {
+
+/// A frustum as a region of structure_views.h: box_outside() by BeamFrustum::box_outside() (its own slack, so the
+/// view's is not added), a ball by its box rounded outward.
+struct FrustumRegion {
+  const BeamFrustum& frustum;
+  bool box_outside(const AABB& box, float /*slack*/) const { return frustum.box_outside(box); }
+  bool sphere_outside(const Vec3& center, float radius) const {
+    const float inf = std::numeric_limits<float>::infinity();
+    AABB box;
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = std::nextafter(center[k] - radius, -inf);
+      box.hi[k] = std::nextafter(center[k] + radius, inf);
+    }
+    return frustum.box_outside(box);
+  }
+};
+
+/// The frustum beams over the other structures (Bvh<BV> with every volume, the kd-tree): the same tiles, frustum,
+/// proof and entry-point walk as FrustumTileTracer, each node's children tested one box at a time (the planes in SSE
+/// lanes, BeamFrustum::box_outside()), every ray proven inside by holds(); the rays left over traced one by one from
+/// the entry point with the structure's own traversal. No primitive tests.
+template <class View>
+class FrustumViewTracer {
+ public:
+  using Ref = typename View::Ref;
+  FrustumViewTracer(const View& view, const PixelRays& pixels, std::span<const Ray> rays, const BeamOptions& config,
+                    std::span<Hit> hits)
+      : view_(view), pixels_(pixels), rays_(rays), config_(config), hits_(hits) {}
+
+  void resolve(int x0, int y0, int x1, int y1, BeamStats& stats) const {
+    struct Tile {
+      int x0, y0, x1, y1;
+      Ref start;
+    };
+    std::vector<Tile> pending{{x0, y0, x1, y1, view_.root()}};
+    while (!pending.empty()) {
+      const Tile t = pending.back();
+      pending.pop_back();
+      ++stats.beams;
+      const BeamFrustum frustum = proven_frustum(t.x0, t.y0, t.x1, t.y1);
+      if (!frustum.valid()) {  // a frustum that cannot be proven to hold its rays decides nothing
+        trace_rays(t.x0, t.y0, t.x1, t.y1, t.start, stats);
+        continue;
+      }
+      const FrustumRegion region{frustum};
+      Ref ref = t.start;
+      TraversalStats walk;
+      bool empty = view_.outside(ref, region);
+      while (!empty && !view_.is_leaf(ref)) {
+        int met = 0;
+        Ref only = ref;
+        view_.for_each_child(ref, region, walk, [&](const Ref& child) {
+          ++met;
+          only = child;
+        });
+        if (met != 1) {
+          empty = met == 0;
+          break;
+        }
+        ref = only;
+      }
+      stats.beam_node_tests += walk.nodes_visited + 1;
+      if (empty) {
+        for (int y = t.y0; y < t.y1; ++y) {
+          for (int x = t.x0; x < t.x1; ++x) hits_[index(x, y)] = Hit{};
+        }
+        stats.pixels_missed += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+        continue;
+      }
+      const int w = t.x1 - t.x0, h = t.y1 - t.y0;
+      if (view_.is_leaf(ref) || std::max(w, h) <= config_.min_tile) {
+        trace_rays(t.x0, t.y0, t.x1, t.y1, config_.entry_points ? ref : view_.root(), stats);
+        continue;
+      }
+      const int xm = w > config_.min_tile ? t.x0 + (w + 1) / 2 : t.x1;
+      const int ym = h > config_.min_tile ? t.y0 + (h + 1) / 2 : t.y1;
+      // Pushed in reverse so the top-left quarter is resolved first.
+      for (const Tile& q : {Tile{xm, ym, t.x1, t.y1, ref}, Tile{t.x0, ym, xm, t.y1, ref},
+                            Tile{xm, t.y0, t.x1, ym, ref}, Tile{t.x0, t.y0, xm, ym, ref}}) {
+        if (q.x0 < q.x1 && q.y0 < q.y1) pending.push_back(q);
+      }
+    }
+  }
+
+ private:
+  /// The frustum through the tile's corners, or an invalid one when a pixel ray is not proven inside it.
+  BeamFrustum proven_frustum(int x0, int y0, int x1, int y1) const {
+    const float fx[4] = {float(x0), float(x1), float(x1), float(x0)};
+    const float fy[4] = {float(y0), float(y0), float(y1), float(y1)};
+    Vec3 corners[4];
+    for (int i = 0; i < 4; ++i) corners[i] = pixels_.ray_at(fx[i], fy[i]).direction;
+    BeamFrustum frustum = BeamFrustum::through(rays_[0].origin, corners);
+    for (int y = y0; y < y1 && frustum.valid(); ++y) {
+      for (int x = x0; x < x1; ++x) {
+        if (!frustum.holds(rays_[index(x, y)])) {
+          frustum.plane_count = 0;
+          break;
+        }
+      }
+    }
+    return frustum;
+  }
+
+  void trace_rays(int x0, int y0, int x1, int y1, const Ref& start, BeamStats& stats) const {
+    trace_pixels_from(view_, start, x0, y0, x1, y1, pixels_.width, rays_.data(), hits_.data(), stats);
+  }
+
+  std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(pixels_.width) + std::size_t(x); }
+
+  const View& view_;
+  const PixelRays& pixels_;
+  std::span<const Ray> rays_;
+  const BeamOptions& config_;
+  std::span<Hit> hits_;
+};
+
+}  // namespace rayaccel::generalized::beam_detail
+
 namespace rayaccel::generalized {
+
+/// trace_beams() over any other structure by frustum culling (beam_detail::FrustumViewTracer): the same hits.
+template <class View>
+BeamStats trace_frustum_beams(const View& view, const PixelRays& pixels, const BeamOptions& config,
+                              std::span<Hit> hits) {
+  return beam_detail::trace_tiles(view, pixels, config, hits, [&](std::span<const Ray> rays, std::span<Hit> out) {
+    const beam_detail::FrustumViewTracer<View> tracer(view, pixels, rays, config, out);
+    return [tracer](int x0, int y0, int x1, int y1, BeamStats& stats) { tracer.resolve(x0, y0, x1, y1, stats); };
+  });
+}
 
 /// trace_beams() over the wide BVH by frustum culling (beam_detail::FrustumTileTracer): the same hits.
 template <int W>

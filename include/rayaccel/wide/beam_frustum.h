@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "rayaccel/core/aabb.h"
 #include "rayaccel/core/ray.h"
 #include "rayaccel/core/vec3.h"
 #include "rayaccel/simd/lane_set.h"
@@ -45,6 +46,10 @@ struct BeamFrustum {
   /// point of the ray lies on the inner side of every plane.
   bool holds(const Ray& ray) const;
   bool valid() const { return plane_count > 0; }
+  /// True when no ray the frustum holds can meet `box` (grown by its slack), by the test of frustum_child_lanes()
+  /// for one box, the planes in four SSE lanes at a time: the same float operations for each box and plane, so the
+  /// same margin. An empty box is outside. For structures whose nodes are tested one box at a time.
+  bool box_outside(const AABB& box) const;
 };
 
 RAYACCEL_LANE_CODE_BEGIN
