@@ -215,8 +215,8 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--beam-min-tile", args->beam_min_tile, "--beams: beams are not split below this side in pixels")
       ->capture_default_str();
   app->add_flag("--beam-exact-tests", args->beam_exact_tests,
-               "--beams over bvh_wide: the double-precision beam/box and beam/triangle tests instead of the SIMD "
-               "frustum (for comparison)");
+               "--beams: the double-precision beam/box and beam/triangle tests instead of the float frustum (for "
+               "comparison)");
   app->add_flag("--beam-one-by-one", args->beam_one_by_one,
                "--beams over bvh_wide: trace the undecided rays one by one, with node and primitive counts, instead "
                "of in 4 x 2 packets");

@@ -45,9 +45,9 @@ struct RenderArgs {
   std::string spp_map;
   // normals and ao modes: primary visibility by beams
   bool beams = false;
-  int beam_tile = 16;
+  int beam_tile = 8;
   bool beam_root = false;
-  int beam_min_tile = 2;
+  int beam_min_tile = 8;
   bool beam_exact_tests = false;
   bool beam_one_by_one = false;
   // cone effects

@@ -22,7 +22,7 @@ static_assert(kPacketSize == static_cast<int>(detail::kPacketSize), "a packet of
 static_assert(sizeof(Node<kPacketSize>::child) / sizeof(std::uint32_t) == kPacketSize, "one child a lane");
 
 /// A ray that is void (see PreparedRay): the lanes of a last, partial packet.
-Ray void_ray() {
+[[maybe_unused]] Ray void_ray() {
   Ray ray;
   ray.t_min = std::numeric_limits<float>::infinity();
   ray.t_max = -std::numeric_limits<float>::infinity();
@@ -120,6 +120,26 @@ struct PacketLanes {
     fast = true;
   }
 };
+
+/// The packet traversals' box test, a box given in each lane by its near and far plane on each axis: each lane's slab
+/// entry (from t_min, into t_near) and exit (from `far_bound`) with BoxKernel::intersect's operations and its
+/// widening for t_min >= 0 (no lane is shifted on the fast path); `meets`: the lanes where entry <= exit.
+template <class S>
+RAYACCEL_LANE_INLINE void slab_meets(const PacketLanes<S>& in, const typename S::F near_plane[3],
+                                     const typename S::F far_plane[3], const typename S::F& far_bound,
+                                     typename S::F& t_near, typename S::F& meets) {
+  using F = typename S::F;
+  t_near = in.t_min;
+  F t_far = far_bound;
+  for (int a = 0; a < 3; ++a) {
+    const F t0 = S::mul(S::sub(near_plane[a], in.origin[a]), in.inv_direction[a]);
+    const F t1 = S::mul(S::sub(far_plane[a], in.origin[a]), in.inv_direction[a]);
+    t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound, as in BoxKernel::intersect
+    t_far = S::min(t1, t_far);
+  }
+  t_near = S::mul(t_near, S::set1(kSlabWidenDown));
+  meets = S::le(t_near, S::mul(t_far, S::set1(kSlabWidenUp)));
+}
 RAYACCEL_LANE_CODE_END
 
 }  // namespace

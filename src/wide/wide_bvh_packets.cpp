@@ -63,39 +63,28 @@ RAYACCEL_LANE_INLINE int WideBvh::trace_packet(const Ray* packet_rays, int count
       near_offset[a] = negative ? 1 : 0;
     }
     const auto trace = [&]<bool kSameSigns>() RAYACCEL_LANE_LAMBDA {
-      const F* o = lanes_in.origin;
-      const F* inv = lanes_in.inv_direction;
       const F* near_is_hi = lanes_in.direction;  // the sign bit of d selects the near plane, as PreparedRay::negative
       const F t_min = lanes_in.t_min;
-      // BoxKernel's widening for t_min >= 0 (no lane is shifted on this path).
-      const F down = S::set1(kSlabWidenDown), up = S::set1(kSlabWidenUp);
       F far_bound = S::load(lanes_in.far);
 
       // Child c of `node` against the rays of `lane_mask` (within far_bound): returns the rays that meet its box, in
       // `meets` as lanes too, and each lane's entry distance in t_near.
       const auto meet_child = [&](const Node<kPacketSize>& node, int c, const F& lane_mask, F& t_near, F& meets)
                                   RAYACCEL_LANE_LAMBDA {
-        t_near = t_min;
-        F t_far = far_bound;
+        F near_plane[3], far_plane[3];
         for (int a = 0; a < 3; ++a) {
-          F near_plane, far_plane;
           if constexpr (kSameSigns) {
-            near_plane = S::broadcast(&node.bounds[a][near_offset[a]][c]);
-            far_plane = S::broadcast(&node.bounds[a][1 - near_offset[a]][c]);
+            near_plane[a] = S::broadcast(&node.bounds[a][near_offset[a]][c]);
+            far_plane[a] = S::broadcast(&node.bounds[a][1 - near_offset[a]][c]);
           } else {
             const F lo = S::broadcast(&node.bounds[a][0][c]);
             const F hi = S::broadcast(&node.bounds[a][1][c]);
-            near_plane = S::blend(lo, hi, near_is_hi[a]);
-            far_plane = S::blend(hi, lo, near_is_hi[a]);
+            near_plane[a] = S::blend(lo, hi, near_is_hi[a]);
+            far_plane[a] = S::blend(hi, lo, near_is_hi[a]);
           }
-          const F t0 = S::mul(S::sub(near_plane, o[a]), inv[a]);
-          const F t1 = S::mul(S::sub(far_plane, o[a]), inv[a]);
-          t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound, as in BoxKernel::intersect
-          t_far = S::min(t1, t_far);
         }
-        t_near = S::mul(t_near, down);
-        t_far = S::mul(t_far, up);
-        meets = S::bit_and(S::le(t_near, t_far), lane_mask);
+        slab_meets<S>(lanes_in, near_plane, far_plane, far_bound, t_near, meets);
+        meets = S::bit_and(meets, lane_mask);
         return S::movemask(meets);
       };
       // Triangle j of `block` against the rays of `testing`; returns the rays whose hit changed. Under a context with a

@@ -26,31 +26,35 @@ constexpr int kTilePackets = 8;
 RAYACCEL_LANE_CODE_BEGIN
 
 template <class S>
-RAYACCEL_LANE_INLINE bool WideBvh::trace_tile(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays,
-                                              int count, Hit* hits, std::uint64_t& ties_out, bool prove) const {
+RAYACCEL_LANE_INLINE int WideBvh::trace_tile(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays,
+                                             int count, Hit* hits, std::uint64_t& ties_out, bool prove) const {
   using F = typename S::F;
   const int packets = count / kPacketSize;
-  // Every packet prepared; the tile takes this path only when each is on the fast path with one set of direction
-  // signs for all its rays (each axis's near plane the same in every lane of every packet).
+  // Every packet prepared; a packet joins the tile when it is on the fast path, proven inside the frustum (`prove`)
+  // and has the direction signs of the first that joined in every ray (each axis's near plane the same in every lane
+  // of every packet); the others are refused, left to the caller.
   alignas(PacketLanes<S>) unsigned char storage[kTilePackets][sizeof(PacketLanes<S>)];
   PacketLanes<S>* lanes[kTilePackets];
   int near_offset[3] = {-1, -1, -1};
   std::uint64_t active = 0;
+  int refused = 0;
   for (int p = 0; p < packets; ++p) {
     lanes[p] = new (storage[p]) PacketLanes<S>(rays + p * kPacketSize);
     const PacketLanes<S>& in = *lanes[p];
     if (!in.active) continue;
-    if (!in.fast) return false;
-    if (prove && (holds_in_lanes<S>(frustum, in.origin, in.direction, in.t_min) & in.active) != in.active) {
-      return false;
-    }
-    for (int a = 0; a < 3; ++a) {
+    bool joins = in.fast && (!prove || (holds_in_lanes<S>(frustum, in.origin, in.direction, in.t_min) & in.active) ==
+                                           in.active);
+    int offset[3];
+    for (int a = 0; a < 3 && joins; ++a) {
       const int negative = S::movemask(in.direction[a]) & in.active;
-      if (negative != 0 && negative != in.active) return false;
-      const int offset = negative ? 1 : 0;
-      if (near_offset[a] >= 0 && near_offset[a] != offset) return false;
-      near_offset[a] = offset;
+      offset[a] = negative ? 1 : 0;
+      joins = (negative == 0 || negative == in.active) && (near_offset[a] < 0 || near_offset[a] == offset[a]);
     }
+    if (!joins) {
+      refused |= 1 << p;
+      continue;
+    }
+    for (int a = 0; a < 3; ++a) near_offset[a] = offset[a];
     active |= std::uint64_t(in.active) << (p * kPacketSize);
   }
   static_assert(std::is_trivially_destructible_v<PacketLanes<S>>, "prepared lanes are left in place");
@@ -63,24 +67,14 @@ RAYACCEL_LANE_INLINE bool WideBvh::trace_tile(std::uint32_t start, const BeamFru
   }
   if (active) {
     for (int a = 0; a < 3; ++a) near_offset[a] = std::max(near_offset[a], 0);
-    const F down = S::set1(kSlabWidenDown), up = S::set1(kSlabWidenUp);
     const F infinity = S::set1(std::numeric_limits<float>::infinity());
     // A child's box (its near and far planes, each broadcast) against the rays `bits` of packet p, as the packet
     // traversal's box test: the rays that meet it; `nearest` lowered to their entries (lane by lane).
     const auto meet_box = [&](const F near_plane[3], const F far_plane[3], int p, int bits, F& nearest)
                               RAYACCEL_LANE_LAMBDA {
-      const PacketLanes<S>& in = *lanes[p];
-      F t_near = in.t_min;
-      F t_far = far_bound[p];
-      for (int a = 0; a < 3; ++a) {
-        const F t0 = S::mul(S::sub(near_plane[a], in.origin[a]), in.inv_direction[a]);
-        const F t1 = S::mul(S::sub(far_plane[a], in.origin[a]), in.inv_direction[a]);
-        t_near = S::max(t0, t_near);  // NaN in t0 keeps the running bound, as in BoxKernel::intersect
-        t_far = S::min(t1, t_far);
-      }
-      t_near = S::mul(t_near, down);
-      t_far = S::mul(t_far, up);
-      const F meets = S::bit_and(S::le(t_near, t_far), S::lanes_from_bits(bits));
+      F t_near, meets;
+      slab_meets<S>(*lanes[p], near_plane, far_plane, far_bound[p], t_near, meets);
+      meets = S::bit_and(meets, S::lanes_from_bits(bits));
       nearest = S::min(nearest, S::blend(infinity, t_near, meets));
       return S::movemask(meets);
     };
@@ -165,12 +159,13 @@ RAYACCEL_LANE_INLINE bool WideBvh::trace_tile(std::uint32_t start, const BeamFru
       for (;;) {
         if (top == 0) {
           for (int p = 0; p < packets; ++p) {
+            if (refused >> p & 1) continue;
             for (int i = 0; i < kPacketSize; ++i) {
               hits[p * kPacketSize + i] = hit[p][i].found() ? hit[p][i] : Hit{};
             }
             ties_out |= std::uint64_t(ties[p] & lanes[p]->active) << (p * kPacketSize);
           }
-          return true;
+          return refused;
         }
         const Entry& e = stack[--top];
         std::uint64_t still = 0;
@@ -201,15 +196,16 @@ RAYACCEL_LANE_INLINE bool WideBvh::trace_tile(std::uint32_t start, const BeamFru
     }
   }
   for (int p = 0; p < packets; ++p) {
+    if (refused >> p & 1) continue;
     for (int i = 0; i < kPacketSize; ++i) hits[p * kPacketSize + i] = Hit{};
   }
-  return true;
+  return refused;
 }
 
 RAYACCEL_LANE_CODE_END
 #endif  // RAYACCEL_AVX_KERNELS
 
-bool WideBvh::intersect_tile_from(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count,
+int WideBvh::intersect_tile_from(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count,
                                   Hit* hits, std::uint64_t& ties, bool prove) const {
   if (!has_packet_traversal() || count < 0 || count > kTilePackets * int(detail::kPacketSize) ||
       count % int(detail::kPacketSize) != 0) {
@@ -217,17 +213,17 @@ bool WideBvh::intersect_tile_from(std::uint32_t start, const BeamFrustum& frustu
                 std::to_string(count) + " rays)");
   }
   ties = 0;
-  bool traced = false;
+  int refused = (1 << (count / int(detail::kPacketSize))) - 1;
 #if RAYACCEL_AVX_KERNELS
   simd::run_with_lanes(isa_, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
     if constexpr (Lanes::kWidth == kPacketSize) {
-      traced = trace_tile<Lanes>(start, frustum, rays, count, hits, ties, prove);
+      refused = trace_tile<Lanes>(start, frustum, rays, count, hits, ties, prove);
     }
   });
 #else
   (void)start, (void)frustum, (void)rays, (void)hits, (void)prove;
 #endif
-  return traced;
+  return refused;
 }
 
 }  // namespace rayaccel::wide

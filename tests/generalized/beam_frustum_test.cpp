@@ -101,7 +101,9 @@ TEST(BeamFrustum, BoxesTheBeamTouchesAreNeverCulled) {
           simd::run_with_lanes(isa, [&]<class Lanes>() RAYACCEL_LANE_LAMBDA {
             proven = wide::holds_lanes<Lanes>(rf.frustum, &ray, 1);
           });
-          if (proven) EXPECT_TRUE(held) << simd::to_string(isa) << ": the float proof held a ray outside";
+          if (proven) {
+            EXPECT_TRUE(held) << simd::to_string(isa) << ": the float proof held a ray outside";
+          }
           if (!held) continue;
           if (edge == 4) {
             ++held_rays;

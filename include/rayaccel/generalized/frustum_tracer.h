@@ -202,35 +202,30 @@ class FrustumTileTracer {
           }
         }
         std::uint64_t again = 0;
-        std::uint32_t from = start;
-        if (view_.trace_tile_from(start, frustum, block_rays, count, block_hits, again, !proven)) {
-          for (int i = 0; i < count; ++i) {
-            if (pixel[i] != kNoPixel) hits_[pixel[i]] = block_hits[i];
-          }
-        } else {
-          bool held = proven;
-          if (!held) {
-            held = true;
-            for (int i = 0; i < count && held; ++i) held = pixel[i] == kNoPixel || frustum.holds(block_rays[i]);
+        const int refused = view_.trace_tile_from(start, frustum, block_rays, count, block_hits, again, !proven);
+        // A refused packet alone: from `start` where the frustum holds its rays, else from the root.
+        std::uint32_t from[8];
+        for (int p = 0; p < count / 8; ++p) {
+          from[p] = start;
+          if (!(refused >> p & 1)) continue;
+          bool held = true;
+          for (int j = 8 * p; j < 8 * p + 8 && held && !proven; ++j) {
+            held = pixel[j] == kNoPixel || frustum.holds(block_rays[j]);
           }
           if (!held) require_shared_origin(t);
-          from = held ? start : view_.root();
-          again = 0;
-          for (int first = 0; first < count; first += 8) {
-            again |= std::uint64_t(unsigned(view_.trace_packet_from(from, block_rays + first, 8,
-                                                                    block_hits + first)))
-                     << first;
-          }
-          for (int i = 0; i < count; ++i) {
-            if (pixel[i] != kNoPixel) hits_[pixel[i]] = block_hits[i];
-          }
+          from[p] = held ? start : view_.root();
+          again |= std::uint64_t(unsigned(view_.trace_packet_from(from[p], block_rays + 8 * p, 8, block_hits + 8 * p)))
+                   << (8 * p);
+        }
+        for (int i = 0; i < count; ++i) {
+          if (pixel[i] != kNoPixel) hits_[pixel[i]] = block_hits[i];
         }
         for (std::uint64_t rest = again; rest; rest &= rest - 1) {
           const int i = std::countr_zero(rest);
           if (pixel[i] == kNoPixel) continue;
           const PreparedRay prepared(block_rays[i]);
           Hit hit = Hit::begin(prepared);
-          if (!prepared.is_void()) view_.trace_from(from, prepared, hit, retraced);
+          if (!prepared.is_void()) view_.trace_from(from[i / 8], prepared, hit, retraced);
           hit.finish();
           hits_[pixel[i]] = hit;
           ++stats.pixels_retraced;

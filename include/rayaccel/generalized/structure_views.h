@@ -111,8 +111,8 @@ class WideView {
   int trace_packet_from(Ref ref, const Ray* rays, int count, Hit* hits) const {
     return bvh_.intersect_packet_from(ref, rays, count, hits);
   }
-  /// WideBvh::intersect_tile_from(): up to eight packets culled together by `frustum`; false when it did not run.
-  bool trace_tile_from(Ref ref, const wide::BeamFrustum& frustum, const Ray* rays, int count, Hit* hits,
+  /// WideBvh::intersect_tile_from(): up to eight packets culled together by `frustum`; returns the packets refused.
+  int trace_tile_from(Ref ref, const wide::BeamFrustum& frustum, const Ray* rays, int count, Hit* hits,
                        std::uint64_t& ties, bool prove) const {
     return bvh_.intersect_tile_from(ref, frustum, rays, count, hits, ties, prove);
   }

@@ -130,11 +130,11 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// culled by `frustum` for the whole tile at once (it must hold every ray that is not void: BeamFrustum::holds()),
   /// then tested packet by packet; the children met are entered nearest first. `ties` gets the rays (bit i: rays[i])
   /// intersect_packet_from() would name; every other ray's hit is intersect()'s bit for bit. `prove`: the frustum is
-  /// not yet known to hold the rays, so each packet's lanes are proven first (holds_in_lanes()). Returns false,
-  /// writing nothing, when a packet is off the packet kernels' fast path, the rays' direction signs differ, or a ray
-  /// was not proven (then trace the packets one by one). Only where has_packet_traversal().
-  bool intersect_tile_from(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count, Hit* hits,
-                           std::uint64_t& ties, bool prove = false) const;
+  /// not yet known to hold the rays, so each packet's lanes are proven first (holds_in_lanes()). Returns the packets
+  /// (bit p) it refused, writing nothing for them: off the packet kernels' fast path, a ray not proven inside, or
+  /// direction signs other than the first packet's (trace those on their own). Only where has_packet_traversal().
+  int intersect_tile_from(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count, Hit* hits,
+                          std::uint64_t& ties, bool prove = false) const;
   void occluded_packets(const QueryContext& context, std::span<const Ray> rays,
                         std::span<std::uint8_t> occluded) const override;
 
@@ -218,8 +218,8 @@ class WideBvh final : public AcceleratorImpl<WideBvh> {
   /// the packet's PacketContext (src/wide/packet_context.h). kTies (closest hit only): traced from `start`, returns
   /// the rays intersect_packet_from() names; otherwise from the root, returning 0.
   template <class S>
-  RAYACCEL_LANE_INLINE bool trace_tile(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count,
-                                       Hit* hits, std::uint64_t& ties, bool prove) const;
+  RAYACCEL_LANE_INLINE int trace_tile(std::uint32_t start, const BeamFrustum& frustum, const Ray* rays, int count,
+                                      Hit* hits, std::uint64_t& ties, bool prove) const;
   template <class S, bool AnyHit, class Context, bool kTies = false>
   RAYACCEL_LANE_INLINE int trace_packet(const Ray* rays, int count, Hit* hits, Context& context,
                                         std::uint32_t start = kEmptyChild) const;
