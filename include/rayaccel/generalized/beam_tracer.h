@@ -86,6 +86,17 @@ BeamStats trace_beams(const View& view, const Scene& scene, const PixelRays& pix
 
 namespace beam_detail {
 
+/// One ray traced alone from node `start` of `view` with the structure's own traversal: intersect()'s hit for a ray
+/// whose every possible hit lies under `start`.
+template <class View, class Ref>
+Hit trace_alone(const View& view, const Ref& start, const Ray& ray, TraversalStats& stats) {
+  const PreparedRay prepared(ray);
+  Hit hit = Hit::begin(prepared);
+  if (!prepared.is_void()) view.trace_from(start, prepared, hit, stats);
+  hit.finish();
+  return hit;
+}
+
 /// Traces the pixels [x0, x1) x [y0, y1) of a `width`-wide image one ray at a time from node `start` of `view`,
 /// writing their hits and adding their cost and count to `stats`: the rays a beam leaves undecided.
 template <class View, class Ref>
@@ -95,11 +106,7 @@ void trace_pixels_from(const View& view, Ref start, int x0, int y0, int x1, int 
   for (int y = y0; y < y1; ++y) {
     for (int x = x0; x < x1; ++x) {
       const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
-      const PreparedRay prepared(rays[i]);
-      Hit hit = Hit::begin(prepared);
-      if (!prepared.is_void()) view.trace_from(start, prepared, hit, cost);
-      hit.finish();
-      hits[i] = hit;
+      hits[i] = trace_alone(view, start, rays[i], cost);
     }
   }
   stats.ray_node_visits += cost.nodes_visited;
@@ -280,13 +287,13 @@ template <class View, class MakeResolve>
 BeamStats trace_tiles(const View& view, const PixelRays& pixels, const BeamOptions& config, std::span<Hit> hits,
                       const MakeResolve& make_resolve, bool tracer_checks_origins = false) {
   check_options(config);
-  BeamResult result;
+  BeamStats total;
   std::vector<Ray> made;
   const std::span<const Ray> rays = pixel_rays(pixels, made, !tracer_checks_origins);
   check_hits_size(pixels, hits.size());
   if (view.empty()) {
     std::fill(hits.begin(), hits.end(), Hit{});
-    return result.stats;
+    return total;
   }
   const auto resolve = make_resolve(rays, hits);
   const int tiles_x = (pixels.width + config.tile_size - 1) / config.tile_size;
@@ -301,9 +308,9 @@ BeamStats trace_tiles(const View& view, const PixelRays& pixels, const BeamOptio
               local);
     }
     const std::lock_guard<std::mutex> lock(merge);
-    result.stats += local;
+    total += local;
   });
-  return result.stats;
+  return total;
 }
 
 /// trace(hits) run on a new image of hits, returned with its statistics.

@@ -24,6 +24,23 @@ using wide::BeamFrustum;
 using wide::frustum_child_lanes;
 using wide::holds_lanes;
 
+/// The frustum from `apex` through the corners of tile [x0, x1) x [y0, y1) (not yet proven to hold its rays).
+inline BeamFrustum corner_frustum(const PixelRays& pixels, const Vec3& apex, int x0, int y0, int x1, int y1) {
+  const float fx[4] = {float(x0), float(x1), float(x1), float(x0)};
+  const float fy[4] = {float(y0), float(y0), float(y1), float(y1)};
+  Vec3 corners[4];
+  for (int i = 0; i < 4; ++i) corners[i] = pixels.ray_at(fx[i], fy[i]).direction;
+  return BeamFrustum::through(apex, corners);
+}
+
+/// Every pixel of tile [x0, x1) x [y0, y1) of a `width`-wide image a miss (an empty frustum), counted in `stats`.
+inline void mark_misses(std::span<Hit> hits, int width, int x0, int y0, int x1, int y1, BeamStats& stats) {
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) hits[std::size_t(y) * std::size_t(width) + std::size_t(x)] = Hit{};
+  }
+  stats.pixels_missed += std::uint64_t(x1 - x0) * std::uint64_t(y1 - y0);
+}
+
 // Each tile's frustum (BeamFrustum: float planes through its corner rays, every pixel ray proven inside) descends the
 // wide BVH from its start node while exactly one child of a node may meet it, each node's W child boxes tested
 // against every plane in one pass of W lanes. No child: every pixel misses. Otherwise the node reached is the tile's
@@ -66,7 +83,7 @@ class FrustumTileTracer {
       // to that traversal, which proves each packet's lanes in SIMD (and to the empty case below); any other tile
       // proves every ray now.
       const bool proof_later = t.start == view_.root() && std::max(w, h) <= config_.min_tile && tile_packets();
-      BeamFrustum frustum = corner_frustum(t);
+      BeamFrustum frustum = corner_frustum(pixels_, rays_[0].origin, t.x0, t.y0, t.x1, t.y1);
       if (frustum.valid() && !proof_later && !holds_every_ray<S>(frustum, t)) frustum.plane_count = 0;
       if (!frustum.valid()) {  // a frustum that cannot be proven to hold its rays decides nothing
         require_shared_origin(t);
@@ -91,10 +108,7 @@ class FrustumTileTracer {
         continue;
       }
       if (empty) {
-        for (int y = t.y0; y < t.y1; ++y) {
-          for (int x = t.x0; x < t.x1; ++x) hits_[index(x, y)] = Hit{};
-        }
-        stats.pixels_missed += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+        mark_misses(hits_, pixels_.width, t.x0, t.y0, t.x1, t.y1, stats);
         continue;
       }
       if (view_.is_leaf(ref) || std::max(w, h) <= config_.min_tile) {
@@ -120,15 +134,6 @@ class FrustumTileTracer {
 
   /// True when the tile traversal runs (packets of eight-wide nodes, tiles together).
   bool tile_packets() const { return config_.packets && config_.tile_packets && view_.has_packets(); }
-
-  /// The frustum through the tile's corners (not yet proven to hold its rays).
-  BeamFrustum corner_frustum(const Tile& t) const {
-    const float fx[4] = {float(t.x0), float(t.x1), float(t.x1), float(t.x0)};
-    const float fy[4] = {float(t.y0), float(t.y0), float(t.y1), float(t.y1)};
-    Vec3 corners[4];
-    for (int i = 0; i < 4; ++i) corners[i] = pixels_.ray_at(fx[i], fy[i]).direction;
-    return BeamFrustum::through(rays_[0].origin, corners);
-  }
 
   /// True when every pixel ray of the tile is proven inside the valid `frustum`: W rays of a row at a time by the
   /// float test (holds_lanes()), the lanes it leaves out by holds().
@@ -223,11 +228,7 @@ class FrustumTileTracer {
         for (std::uint64_t rest = again; rest; rest &= rest - 1) {
           const int i = std::countr_zero(rest);
           if (pixel[i] == kNoPixel) continue;
-          const PreparedRay prepared(block_rays[i]);
-          Hit hit = Hit::begin(prepared);
-          if (!prepared.is_void()) view_.trace_from(from[i / 8], prepared, hit, retraced);
-          hit.finish();
-          hits_[pixel[i]] = hit;
+          hits_[pixel[i]] = trace_alone(view_, from[i / 8], block_rays[i], retraced);
           ++stats.pixels_retraced;
         }
       }
@@ -260,11 +261,7 @@ class FrustumTileTracer {
         for (int i = 0; i < count; ++i) hits_[pixel[i]] = packet_hits[i];
         for (int rest = again; rest; rest &= rest - 1) {
           const int i = std::countr_zero(unsigned(rest));
-          const PreparedRay prepared(packet[i]);
-          Hit hit = Hit::begin(prepared);
-          if (!prepared.is_void()) view_.trace_from(start, prepared, hit, retraced);
-          hit.finish();
-          hits_[pixel[i]] = hit;
+          hits_[pixel[i]] = trace_alone(view_, start, packet[i], retraced);
         }
         stats.pixels_retraced += std::uint64_t(std::popcount(unsigned(again)));
       }
@@ -284,10 +281,6 @@ class FrustumTileTracer {
   const BeamOptions& config_;
   std::span<Hit> hits_;
 };
-
-}  // namespace rayaccel::generalized::beam_detail
-
-namespace rayaccel::generalized::beam_detail {
 
 /// A frustum as a region of structure_views.h: box_outside() by BeamFrustum::box_outside() (its own slack, so the
 /// view's is not added), a ball by its box rounded outward.
@@ -351,10 +344,7 @@ class FrustumViewTracer {
       }
       stats.beam_node_tests += walk.nodes_visited + 1;
       if (empty) {
-        for (int y = t.y0; y < t.y1; ++y) {
-          for (int x = t.x0; x < t.x1; ++x) hits_[index(x, y)] = Hit{};
-        }
-        stats.pixels_missed += std::uint64_t(t.x1 - t.x0) * std::uint64_t(t.y1 - t.y0);
+        mark_misses(hits_, pixels_.width, t.x0, t.y0, t.x1, t.y1, stats);
         continue;
       }
       const int w = t.x1 - t.x0, h = t.y1 - t.y0;
@@ -375,11 +365,7 @@ class FrustumViewTracer {
  private:
   /// The frustum through the tile's corners, or an invalid one when a pixel ray is not proven inside it.
   BeamFrustum proven_frustum(int x0, int y0, int x1, int y1) const {
-    const float fx[4] = {float(x0), float(x1), float(x1), float(x0)};
-    const float fy[4] = {float(y0), float(y0), float(y1), float(y1)};
-    Vec3 corners[4];
-    for (int i = 0; i < 4; ++i) corners[i] = pixels_.ray_at(fx[i], fy[i]).direction;
-    BeamFrustum frustum = BeamFrustum::through(rays_[0].origin, corners);
+    BeamFrustum frustum = corner_frustum(pixels_, rays_[0].origin, x0, y0, x1, y1);
     for (int y = y0; y < y1 && frustum.valid(); ++y) {
       for (int x = x0; x < x1; ++x) {
         if (!frustum.holds(rays_[index(x, y)])) {
